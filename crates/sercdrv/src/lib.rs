@@ -1,0 +1,1 @@
+//! SERCDRV: host driver for SERCOS masters and slaves, written against `SerconBus` only.

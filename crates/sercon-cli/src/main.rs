@@ -1,0 +1,5 @@
+//! `sercon`: the command line of the sercon project.
+
+fn main() {
+    println!("sercon");
+}

@@ -1,0 +1,1 @@
+//! An emulated SERCOS servo drive: IDN database, procedure commands and motion model.

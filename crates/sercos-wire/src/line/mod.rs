@@ -1,0 +1,1 @@
+//! Line coding (filled in by the line-coding work).

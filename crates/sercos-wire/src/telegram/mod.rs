@@ -1,0 +1,1 @@
+//! Telegram formats (filled in by the telegram-formats work).
