@@ -19,3 +19,4 @@ pub mod address;
 pub mod idn;
 pub mod line;
 pub mod telegram;
+pub mod time;
