@@ -1,5 +1,42 @@
 //! `sercon`: the command line of the sercon project.
+//!
+//! Thin by design (DESIGN.md): it parses arguments, calls the crates, and turns errors into
+//! one clear line and a non-zero exit.
 
-fn main() {
-    println!("sercon");
+use clap::{Parser, Subcommand};
+
+mod capture;
+mod script;
+
+/// SERCOS interface tools: line captures, the SERCON controller model, simulated rings.
+#[derive(Debug, Parser)]
+#[command(name = "sercon", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Decode real SERCOS II line captures.
+    #[command(subcommand)]
+    Capture(capture::CaptureCommand),
+    /// Run a scripted register sequence on a controller model and write its pins as VCD.
+    Script(script::ScriptArgs),
+}
+
+fn main() -> std::process::ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Capture(cmd) => capture::run(cmd),
+        Command::Script(args) => script::run(args),
+    };
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            // One clear line: the error and its causes, joined.
+            eprintln!("sercon: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
 }
