@@ -2,7 +2,8 @@
 
 /// A read-only view of line bits: bit `i` is bit `7 - (start + i) % 8` of byte
 /// `(start + i) / 8`, i.e. packed most significant bit first as in the capture files.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Two views are equal when they hold the same bits.
+#[derive(Debug, Clone, Copy)]
 pub struct Bits<'a> {
     bytes: &'a [u8],
     start: usize,
@@ -66,6 +67,14 @@ impl<'a> Bits<'a> {
         (0..self.len).map(|i| self.get(i).unwrap_or(false))
     }
 }
+
+impl PartialEq for Bits<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.len == other.len && self.iter().eq(other.iter())
+    }
+}
+
+impl Eq for Bits<'_> {}
 
 /// The sink was full: the bits did not fit into the caller's buffer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, thiserror::Error)]
