@@ -88,7 +88,7 @@ fn phase_1_mdt_bytes() {
 fn broadcast_mdt_records_by_offset() {
     // sercos-telegrams.md, MDT phases 3–4: ADR 255, one record per drive at a byte offset.
     // Offsets count from the first byte after ADR.
-    let mut bytes = vec![0u8; 1 + 4 * 8];
+    let mut bytes = [0u8; 1 + 4 * 8];
     bytes[0] = 0xFF;
     let mut packet = MdtPacket::new_checked(&mut bytes[..]).expect("long enough");
     for drive in 0..4u8 {
