@@ -5,3 +5,4 @@
 //! run with `next_deadline()`; it never reads a clock (DESIGN.md).
 
 pub mod pins;
+pub mod vcd_trace;
