@@ -54,8 +54,7 @@ fn capture_1_every_telegram_has_a_valid_fcs_and_the_count_matches() {
 
 #[test]
 fn capture_2_every_telegram_has_a_valid_fcs_and_the_count_matches() {
-    let Some((telegrams, errors, count)) = decode_capture("tc2000r-phaseup-2.nrzi", 1 << 20)
-    else {
+    let Some((telegrams, errors, count)) = decode_capture("tc2000r-phaseup-2.nrzi", 1 << 20) else {
         return;
     };
     assert_eq!(count, 9632);

@@ -376,12 +376,26 @@ impl Decoder {
         let bits = self.mark;
         let whole = (bits / 8) as usize;
         let outcome = if bits < (MIN_FRAME_BYTES * 8) as u32 {
-            Err((LineError::TooShort { start, end: fend, bits }, whole))
+            Err((
+                LineError::TooShort {
+                    start,
+                    end: fend,
+                    bits,
+                },
+                whole,
+            ))
         } else if bits > LIMIT_BITS {
             let at = fend - FLAG_BITS;
             Err((LineError::TooLong { start, at }, whole))
         } else if bits % 8 != 0 {
-            Err((LineError::NotWholeBytes { start, end: fend, bits }, whole))
+            Err((
+                LineError::NotWholeBytes {
+                    start,
+                    end: fend,
+                    bits,
+                },
+                whole,
+            ))
         } else {
             let n = whole - FCS_LEN;
             let telegram = self.buf.get(..n).unwrap_or(&[]);

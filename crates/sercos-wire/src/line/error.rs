@@ -6,7 +6,9 @@
 pub enum LineError {
     /// The FCS received does not match the one computed over ADR and data
     /// (ERRATA, Telegrams: ISO/IEC 3309 FCS). The received bytes come with the error.
-    #[error("FCS mismatch in frame at bits {start}..{end}: received {received:04X}H, computed {computed:04X}H")]
+    #[error(
+        "FCS mismatch in frame at bits {start}..{end}: received {received:04X}H, computed {computed:04X}H"
+    )]
     FcsMismatch {
         /// First bit of the opening flag.
         start: u64,

@@ -36,9 +36,9 @@ pub use bits::BitVec;
 pub use bits::{BitSink, BitWriter, Bits, SinkFull};
 pub use capture::{CaptureError, CaptureFile};
 pub use config::{Coding, LineConfig, Polarity};
+pub use decoder::Decoder;
 #[cfg(feature = "alloc")]
 pub use decoder::decode_all;
-pub use decoder::Decoder;
 pub use encoder::{Encoder, frame_bit_len};
 pub use error::{EncodeError, LineError};
 pub use fcs::{FCS_LEN, fcs};

@@ -20,9 +20,15 @@ pub fn decode_chunked(bits: Bits<'_>, config: LineConfig, sizes: &[usize]) -> Ve
     let mut at = 0;
     let mut k = 0;
     while at < bits.len() {
-        let size = sizes.get(k % sizes.len().max(1)).copied().unwrap_or(1).max(1);
+        let size = sizes
+            .get(k % sizes.len().max(1))
+            .copied()
+            .unwrap_or(1)
+            .max(1);
         let to = (at + size).min(bits.len());
-        decoder.push(bits.slice(at, to).expect("in range"), |d| out.push(d.to_owned()));
+        decoder.push(bits.slice(at, to).expect("in range"), |d| {
+            out.push(d.to_owned())
+        });
         at = to;
         k += 1;
     }
@@ -31,17 +37,17 @@ pub fn decode_chunked(bits: Bits<'_>, config: LineConfig, sizes: &[usize]) -> Ve
 }
 
 /// Feeds `bits` to the reference decoder in chunks.
-pub fn reference_chunked(
-    bits: Bits<'_>,
-    config: LineConfig,
-    sizes: &[usize],
-) -> Vec<OwnedDecoded> {
+pub fn reference_chunked(bits: Bits<'_>, config: LineConfig, sizes: &[usize]) -> Vec<OwnedDecoded> {
     let mut out = Vec::new();
     let mut decoder = reference::Decoder::new(config);
     let mut at = 0;
     let mut k = 0;
     while at < bits.len() {
-        let size = sizes.get(k % sizes.len().max(1)).copied().unwrap_or(1).max(1);
+        let size = sizes
+            .get(k % sizes.len().max(1))
+            .copied()
+            .unwrap_or(1)
+            .max(1);
         let to = (at + size).min(bits.len());
         decoder.push(bits.slice(at, to).expect("in range"), |d| out.push(d));
         at = to;
