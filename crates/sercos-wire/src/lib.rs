@@ -20,3 +20,6 @@ pub mod idn;
 pub mod line;
 pub mod telegram;
 pub mod time;
+
+#[cfg(feature = "alloc")]
+pub mod service_transcript;
