@@ -351,7 +351,10 @@ impl EndMarker {
 
     /// Encodes to 2 words (`reserved` is cut to bits 13-0).
     pub const fn to_words(self) -> [u16; 2] {
-        [HeaderKind::EndMarker.marker() | (self.reserved & 0x3FFF), self.tend]
+        [
+            HeaderKind::EndMarker.marker() | (self.reserved & 0x3FFF),
+            self.tend,
+        ]
     }
 }
 

@@ -4,8 +4,8 @@
 //! leaves it (ERRATA "410B 4H/5H"). 6H/8H enable the flags of 4H onto INT0/INT1, 7H/9H
 //! those of 5H, with the same bit assignment.
 
-use crate::value::{RegisterValue, flags_register};
 use crate::register::Register;
+use crate::value::{RegisterValue, flags_register};
 
 bitflags::bitflags! {
     /// Interrupt flags of register 4H (INT_n / CLR_INT_n), also the bit assignment of
