@@ -101,4 +101,14 @@ impl Variant {
             Variant::Sercon816 => 0x2A,
         }
     }
+
+    /// Value of REPON (1H.3) after reset given the levels of pins TM0 and TM1.
+    // 410B §4.1 1H: REPON resets to 1. 816 §2.3.3: TM0 = TM1 = 0 gives 0 (repeater off),
+    // every other combination 1.
+    pub const fn repon_after_reset(self, tm0: bool, tm1: bool) -> bool {
+        match self {
+            Variant::Sercon410b => true,
+            Variant::Sercon816 => tm0 || tm1,
+        }
+    }
 }

@@ -242,3 +242,12 @@ fn variant_data() {
     assert!(!a.has_divclkmode() && b.has_divclkmode());
     assert!(!a.has_watchdog() && b.has_watchdog());
 }
+
+#[test]
+fn repon_after_reset() {
+    // 410B §4.1 1H REPON reset 1; 816 §2.3.3 table: only TM0 = TM1 = 0 gives REPON 0.
+    for (tm0, tm1) in [(false, false), (false, true), (true, false), (true, true)] {
+        assert!(Variant::Sercon410b.repon_after_reset(tm0, tm1));
+        assert_eq!(Variant::Sercon816.repon_after_reset(tm0, tm1), tm0 || tm1);
+    }
+}
