@@ -6,6 +6,7 @@
 use clap::{Parser, Subcommand};
 
 mod capture;
+mod idn_text;
 mod script;
 
 /// SERCOS interface tools: line captures, the SERCON controller model, simulated rings.
