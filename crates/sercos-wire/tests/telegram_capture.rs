@@ -2,14 +2,12 @@
 //! (`../shared/captures/`, see its README.md) classifies and parses as an MST or MDT, re-emits
 //! to the same bytes, and shows the structure the README describes.
 //!
-//! The framing here is a minimal, self-contained decoder written only for this test (NRZI,
-//! flags, zero deletion, FCS; ERRATA.md, Telegrams, "frame" and "FCS"), so that the telegram
-//! formats are checked against real data independently of the line module. The test says that
-//! it skipped when the captures folder is absent.
+//! Framing comes from the line module's decoder (ERRATA.md, Telegrams, "frame" and "FCS"). The
+//! test says that it skipped when the captures folder is absent.
 
 use std::path::PathBuf;
 
-use crc::{CRC_16_IBM_SDLC, Crc};
+use sercos_wire::line::{self, CaptureFile, LineConfig, OwnedDecoded};
 use sercos_wire::telegram::{CommunicationPhase, MdtRepr, Origin, TelegramRepr};
 
 fn capture(name: &str) -> Option<Vec<u8>> {
@@ -19,63 +17,27 @@ fn capture(name: &str) -> Option<Vec<u8>> {
     match std::fs::read(&path) {
         Ok(bytes) => Some(bytes),
         Err(_) => {
-            eprintln!("skipped: {} not found", path.display());
+            eprintln!(
+                "SKIPPED: {} not found (the shared captures folder is absent)",
+                path.display()
+            );
             None
         }
     }
 }
 
-/// Splits the capture into telegram bytes (ADR and data, FCS checked and removed).
+/// Splits the capture into telegram bytes (ADR and data, FCS checked and removed) with the
+/// line decoder (whose bit-serial reference twin is proven equal in `line_*` tests).
 fn telegrams(file: &[u8]) -> (usize, Vec<Vec<u8>>) {
-    let count = usize::from(u16::from_be_bytes([file[0], file[1]]));
-    // Captures README: bits most significant first; NRZI, a 0 is a change of level.
-    let levels = file[2..]
-        .iter()
-        .flat_map(|byte| (0..8).rev().map(move |i| (byte >> i) & 1));
-    let mut previous = 0;
-    let bits: Vec<u8> = levels
-        .map(|level| {
-            let bit = u8::from(level == previous);
-            previous = level;
-            bit
+    let capture = CaptureFile::parse(file).expect("capture header");
+    let found = line::decode_all(capture.bits, LineConfig::RESET)
+        .into_iter()
+        .filter_map(|d| match d {
+            OwnedDecoded::Telegram { bytes, .. } => Some(bytes),
+            OwnedDecoded::Error { .. } => None,
         })
         .collect();
-    let fcs = Crc::<u16>::new(&CRC_16_IBM_SDLC);
-    let mut found = Vec::new();
-    let flag = [0, 1, 1, 1, 1, 1, 1, 0];
-    let flags: Vec<usize> = (0..bits.len().saturating_sub(7))
-        .filter(|&i| bits[i..i + 8] == flag)
-        .collect();
-    for pair in flags.windows(2) {
-        // Two flags may share their 0 (011111101111110); nothing lies between them then.
-        let Some(body) = bits.get(pair[0] + 8..pair[1]) else {
-            continue;
-        };
-        // Zero deletion: drop the 0 after five 1s (ERRATA.md, Telegrams, "frame").
-        let mut unstuffed = Vec::with_capacity(body.len());
-        let mut ones = 0;
-        for &bit in body {
-            if ones == 5 && bit == 0 {
-                ones = 0;
-                continue;
-            }
-            ones = if bit == 1 { ones + 1 } else { 0 };
-            unstuffed.push(bit);
-        }
-        if unstuffed.len() % 8 != 0 || unstuffed.len() < 8 * 4 {
-            continue;
-        }
-        // Bytes least significant bit first.
-        let bytes: Vec<u8> = unstuffed
-            .chunks(8)
-            .map(|c| c.iter().enumerate().fold(0, |acc, (i, b)| acc | (b << i)))
-            .collect();
-        let (data, crc) = bytes.split_at(bytes.len() - 2);
-        if fcs.checksum(data) == u16::from_le_bytes([crc[0], crc[1]]) {
-            found.push(data.to_vec());
-        }
-    }
-    (count, found)
+    (usize::from(capture.telegram_count), found)
 }
 
 fn check(name: &str) {
