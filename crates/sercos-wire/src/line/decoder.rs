@@ -38,8 +38,11 @@ struct Step {
     ones: u8,
     /// Bits kept before the last 0 of the byte, or `NO_ZERO`.
     mark: u8,
-    /// A flag or an abort ends in this byte: take the bit-serial path.
+    /// A flag or an abort ends at bit `pre` of this byte: the fields above describe the bits
+    /// before it, and the bit-serial path takes the rest.
     event: bool,
+    /// Bits described by the fields above (8 unless `event`).
+    pre: u8,
 }
 
 const NO_ZERO: u8 = 0xFF;
@@ -53,6 +56,7 @@ const fn build_step_table() -> [[Step; 256]; 8] {
         ones: 0,
         mark: NO_ZERO,
         event: false,
+        pre: 8,
     }; 256]; 8];
     let mut start = 0;
     while start < 8 {
@@ -64,6 +68,7 @@ const fn build_step_table() -> [[Step; 256]; 8] {
                 ones: start as u8,
                 mark: NO_ZERO,
                 event: false,
+                pre: 8,
             };
             let mut i = 0;
             while i < 8 {
@@ -71,6 +76,7 @@ const fn build_step_table() -> [[Step; 256]; 8] {
                 if bit == 1 {
                     if s.ones == 6 {
                         s.event = true; // abort
+                        s.pre = i as u8;
                         break;
                     }
                     if s.ones < ONES_ABORTED {
@@ -83,6 +89,7 @@ const fn build_step_table() -> [[Step; 256]; 8] {
                 } else {
                     if s.ones == 6 {
                         s.event = true; // flag
+                        s.pre = i as u8;
                         break;
                     }
                     s.mark = s.n;
@@ -236,9 +243,10 @@ impl Decoder {
                 ones: 0,
                 mark: NO_ZERO,
                 event: true,
+                pre: 0,
             },
         };
-        if s.event || (self.open && self.len + 8 > PUSH_LIMIT) {
+        if self.open && self.len + 8 > PUSH_LIMIT {
             for k in 0..8u8 {
                 self.bit((d >> (7 - k)) & 1 == 1, pos + u64::from(k), sink);
             }
@@ -253,6 +261,11 @@ impl Decoder {
             self.nacc += u32::from(s.n);
             self.len += u32::from(s.n);
             self.flush_byte();
+        }
+        if s.event {
+            for k in s.pre..8 {
+                self.bit((d >> (7 - k)) & 1 == 1, pos + u64::from(k), sink);
+            }
         }
     }
 
