@@ -16,8 +16,11 @@
 extern crate alloc;
 
 pub mod address;
+pub mod attribute;
 pub mod idn;
+pub mod idn_catalog;
 pub mod line;
+pub mod service_error;
 pub mod telegram;
 pub mod time;
 
