@@ -4,5 +4,23 @@
 //! Time is injected: the model is advanced with `advance_to(t)` and says when it next needs to
 //! run with `next_deadline()`; it never reads a clock (DESIGN.md).
 
+pub mod chip;
+pub mod config;
+mod cycle;
+mod cycle_plan;
+mod deadline;
+mod engine;
+mod interrupts;
+mod mclk;
 pub mod pins;
+mod register_access;
+mod register_file;
+mod reset;
+mod settings;
+mod time_base;
+mod timing_outputs;
 pub mod vcd_trace;
+mod watchdog;
+
+pub use chip::Chip;
+pub use config::{ChipConfig, ConfigError, Straps};

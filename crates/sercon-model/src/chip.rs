@@ -1,0 +1,205 @@
+//! The chip: configuration, simulated time, output pins and the host bus.
+
+use sercon_regs::SerconBus;
+use sercos_wire::time::Instant;
+
+use crate::config::ChipConfig;
+use crate::engine::{DRIVEN, Engine};
+use crate::mclk::MclkClock;
+use crate::pins::{Pin, PinEvent, PinSet};
+
+/// One SERCON410B or SERCON816, advanced in simulated time.
+///
+/// Time is injected (DESIGN.md): [`Chip::advance_to`] processes everything up to an
+/// instant, [`Chip::next_deadline`] names the next instant at which something observable
+/// happens, and every bus access ([`SerconBus`]) happens at [`Chip::now`].
+#[derive(Debug, Clone)]
+pub struct Chip {
+    pub(crate) cfg: ChipConfig,
+    pub(crate) clock: MclkClock,
+    pub(crate) now: Instant,
+    pub(crate) engine: Engine,
+    pub(crate) ram: Vec<u16>,
+    pub(crate) traced: PinSet,
+    pub(crate) events: Vec<PinEvent>,
+    /// RSTN is low: the chip is held in reset.
+    pub(crate) in_reset: bool,
+    /// Level at input CYC_CLK (410B §4.1 0CH.7).
+    pub(crate) cyc_clk: bool,
+}
+
+impl Chip {
+    /// A chip at time 0, as after RSTN. An invalid configuration (MCLK of 0 Hz, see
+    /// [`ChipConfig::validate`]) runs with its MCLK clamped to 1 Hz ..= 1 THz.
+    pub fn new(cfg: ChipConfig) -> Chip {
+        let clock = MclkClock::new(cfg.mclk_hz);
+        Chip {
+            cfg,
+            clock,
+            now: Instant::ZERO,
+            engine: Engine::after_reset(cfg.variant, &cfg.straps, 0),
+            // 410B §1: 1024 words; 816 §2.5: 2048 words. The RAM has no reset value
+            // (spec-notes "RAM after power-up": 0).
+            ram: vec![0; usize::from(cfg.variant.ram_words())],
+            traced: PinSet::EMPTY,
+            events: Vec::new(),
+            in_reset: false,
+            cyc_clk: false,
+        }
+    }
+
+    /// A chip at time 0 after checking the configuration.
+    pub fn try_new(cfg: ChipConfig) -> Result<Chip, crate::ConfigError> {
+        cfg.validate()?;
+        Ok(Chip::new(cfg))
+    }
+
+    /// The configuration the chip was built with.
+    pub fn config(&self) -> &ChipConfig {
+        &self.cfg
+    }
+
+    /// The current simulated time.
+    pub fn now(&self) -> Instant {
+        self.now
+    }
+
+    /// Processes everything up to and including `t`; `t` before [`Chip::now`] does
+    /// nothing.
+    pub fn advance_to(&mut self, t: Instant) {
+        if t < self.now {
+            return;
+        }
+        if !self.in_reset {
+            let limit = self.clock.tick_at_or_before(t);
+            while let Some(step) = self.engine.step(limit) {
+                if step.changed != 0 {
+                    let at = self.clock.instant(step.tick);
+                    self.emit(step.changed, at);
+                }
+            }
+        }
+        self.now = t;
+    }
+
+    /// The next instant after [`Chip::now`] at which something observable happens: a
+    /// traced pin or an interrupt output (INT0, INT1, WDOGN) changes level, or the
+    /// watchdog expires. `None` when nothing ever will without a bus access or an input.
+    pub fn next_deadline(&self) -> Option<Instant> {
+        if self.in_reset {
+            return None;
+        }
+        crate::deadline::next_deadline(self)
+    }
+
+    /// Chooses which pins produce [`PinEvent`]s from now on.
+    pub fn set_traced_pins(&mut self, pins: PinSet) {
+        self.traced = pins;
+    }
+
+    /// The pins currently traced.
+    pub fn traced_pins(&self) -> PinSet {
+        self.traced
+    }
+
+    /// Moves the pin events recorded so far (time-ordered) to the end of `out`.
+    pub fn drain_pin_events(&mut self, out: &mut Vec<PinEvent>) {
+        out.append(&mut self.events);
+    }
+
+    /// The electrical level of an output pin at [`Chip::now`]. Pins this model does not
+    /// drive yet (IDLE, REACTN, L_ERRN, DMA requests, TxD) read their inactive level.
+    pub fn pin_level(&self, pin: Pin) -> bool {
+        match DRIVEN.iter().position(|p| *p == pin) {
+            Some(i) => self.engine.levels.get(i).copied().unwrap_or(false),
+            // 410B §2: IDLE, REACTN, L_ERRN are active low; DMAREQR/T active high.
+            None => !matches!(pin, Pin::DmaReqR | Pin::DmaReqT),
+        }
+    }
+
+    /// Records a change of the driven pins in `changed` at `at` for the traced ones.
+    pub(crate) fn emit(&mut self, changed: u8, at: Instant) {
+        for (i, pin) in DRIVEN.iter().enumerate() {
+            if changed & (1 << i) != 0 && self.traced.contains(*pin) {
+                let level = self.engine.levels.get(i).copied().unwrap_or(false);
+                self.events.push(PinEvent {
+                    at,
+                    pin: *pin,
+                    level,
+                });
+            }
+        }
+    }
+
+    /// The MCLK tick at which an action requested at [`Chip::now`] takes effect: the
+    /// chip samples its inputs on the next MCLK edge.
+    pub(crate) fn action_tick(&self) -> u64 {
+        self.clock.tick_at_or_after(self.now)
+    }
+
+    /// After the state changed at `now`: emits the resulting pin changes at `now` and
+    /// processes anything now due at or before `now`.
+    pub(crate) fn settle(&mut self) {
+        let changed = self.engine.update_levels();
+        if changed != 0 {
+            self.emit(changed, self.now);
+        }
+        let now = self.now;
+        self.advance_to(now);
+    }
+
+    /// Sets the level of input CYC_CLK at [`Chip::now`]; the selected edge triggers
+    /// timing control when ENCYCCLK = 1.
+    // 410B §4.1 0CH.7 CYC_CLK, 0CH.8 ENCYCCLK, 0CH.9 POLCYCCLK (0 = rising edge).
+    pub fn set_cyc_clk(&mut self, level: bool) {
+        if level == self.cyc_clk {
+            return;
+        }
+        self.cyc_clk = level;
+        if self.in_reset {
+            return;
+        }
+        let s = self.engine.s;
+        let rising = level;
+        if s.encycclk && rising != s.polcycclk && !s.is_sercos_slave() {
+            let at = self.action_tick();
+            self.engine.trigger(at);
+            self.settle();
+        }
+    }
+
+    /// Sets the level of the reset input RSTN at [`Chip::now`]: low holds the chip in
+    /// reset, the rising edge releases it.
+    pub fn set_rstn(&mut self, level: bool) {
+        crate::reset::set_rstn(self, level);
+    }
+}
+
+impl SerconBus for Chip {
+    fn read_register(&mut self, address: u8) -> u16 {
+        crate::register_access::read(self, address)
+    }
+
+    fn write_register(&mut self, address: u8, value: u16) {
+        crate::register_access::write(self, address, value);
+    }
+
+    fn read_ram(&mut self, address: u16) -> u16 {
+        // 410B §2: A10-1 select the RAM word (816 §2.5: A11-1); higher bits are not decoded.
+        let mask = self.cfg.variant.ram_address_mask();
+        self.ram
+            .get(usize::from(address & mask))
+            .copied()
+            .unwrap_or(0)
+    }
+
+    fn write_ram(&mut self, address: u16, value: u16) {
+        if self.in_reset {
+            return;
+        }
+        let mask = self.cfg.variant.ram_address_mask();
+        if let Some(word) = self.ram.get_mut(usize::from(address & mask)) {
+            *word = value;
+        }
+    }
+}

@@ -1,0 +1,290 @@
+//! Communication cycles: start by CYCSTART / CYC_CLK after TCYCSTART, NCYC cycles of
+//! TSCYC0/1 µs, transmission-block selection, COMACT/COMBLK and their interrupts
+//! (410B §4.1 3H.6-7, 4H.2-4, 0CH, 0FH–14H).
+
+use std::sync::Arc;
+
+use crate::cycle_plan::{CyclePlan, next_match};
+use crate::engine::Engine;
+use crate::interrupts::{INT_COMBLK0, INT_COMBLK1, INT_COMEND, INT_DIVCLK};
+
+/// The communication cycle in progress.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Run {
+    /// Reference point: at MCLK tick `ref_tick` the cycle was `ref_e` µs old; the
+    /// following µs ticks of the predivider add one each.
+    pub(crate) ref_tick: u64,
+    /// See [`Run::ref_tick`].
+    pub(crate) ref_e: u64,
+    /// Offset at which the cycle ends (TCNT reaches TSCYC of its block).
+    pub(crate) len: u64,
+    /// Transmission block processed (0 or 1), 410B §4.1 3H.7 COMBLK.
+    pub(crate) block: u8,
+    /// TCNTST latched at the cycle start.
+    pub(crate) tcntst: u16,
+    /// Next plan entry to process.
+    pub(crate) cursor: usize,
+    /// DIVCLKMODE = 1: this cycle has the DIV_CLK pulse.
+    pub(crate) pulse_cycle: bool,
+}
+
+/// Sequencing state of the timing control.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct CycleState {
+    /// The cycle in progress (410B §4.1 3H.6 COMACT = 1 while `Some`).
+    pub(crate) run: Option<Run>,
+    /// Tick at which a triggered sequence of cycles starts (after TCYCSTART).
+    pub(crate) pending: Option<u64>,
+    /// Cycles still to run after the current one ends (NCYC > 0).
+    pub(crate) cycles_left: u8,
+    /// NCYC = 0: cycles repeat until the next trigger or reset (spec-notes "NCYC = 0").
+    pub(crate) continuous: bool,
+    /// TCNT while no cycle runs (it holds its last value).
+    pub(crate) tcnt_hold: u16,
+}
+
+impl Engine {
+    /// The MCLK tick at which offset `e` of `run` falls.
+    pub(crate) fn e_tick(&self, run: &Run, e: u64) -> u64 {
+        if e <= run.ref_e {
+            run.ref_tick
+        } else {
+            let first = self.pre.tick_after(run.ref_tick);
+            first.saturating_add((e - run.ref_e - 1).saturating_mul(self.pre.period()))
+        }
+    }
+
+    /// The offset of `run` at MCLK tick `tick` (µs ticks counted up to and including it).
+    pub(crate) fn e_at(&self, run: &Run, tick: u64) -> u64 {
+        let first = self.pre.tick_after(run.ref_tick);
+        if tick < first {
+            run.ref_e
+        } else {
+            run.ref_e + 1 + (tick - first) / self.pre.period()
+        }
+    }
+
+    /// TCNT at tick `tick` (410B §4.1 11H RDCNT → 12H TCNTLT).
+    pub(crate) fn tcnt_at(&self, tick: u64) -> u16 {
+        match &self.cycle.run {
+            // spec-notes "TCNT": loaded with TCNTST at the cycle start, +1 per µs.
+            Some(run) => (u64::from(run.tcntst) + self.e_at(run, tick)) as u16,
+            None => self.cycle.tcnt_hold,
+        }
+    }
+
+    /// The next tick of the cycle machinery (pending start, plan entry, pulse end, end).
+    pub(crate) fn cycle_next_tick(&self) -> Option<u64> {
+        let run_tick = self.cycle.run.as_ref().map(|run| {
+            let mut e = run.len;
+            if let Some(entry) = self.plan.entries.get(run.cursor) {
+                e = e.min(entry.e);
+            }
+            if let Some(until) = self.outputs.divclk_until {
+                e = e.min(until);
+            }
+            self.e_tick(run, e)
+        });
+        match (run_tick, self.cycle.pending) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// Timing control triggered at tick `at` (CYCSTART or a CYC_CLK edge): the predivider
+    /// is reloaded with MCLKST and cycles start TCYCSTART µs later.
+    // 410B §4.1 0CH.8/10 "Trigger timing control after TCYCSTART"; 14H TCYCSTART.
+    pub(crate) fn trigger(&mut self, at: u64) {
+        self.rebase(at);
+        self.pre.reload(at, self.s.mclkst);
+        let delay = u64::from(self.s.tcycstart);
+        let start = if delay == 0 {
+            at
+        } else {
+            let first = self.pre.tick_after(at);
+            first.saturating_add((delay - 1).saturating_mul(self.pre.period()))
+        };
+        // spec-notes "retrigger": a later trigger replaces a pending one.
+        self.cycle.pending = Some(start);
+    }
+
+    /// Moves the running cycle's reference point to tick `at` (before the predivider's
+    /// phase or period changes).
+    pub(crate) fn rebase(&mut self, at: u64) {
+        if let Some(run) = self.cycle.run {
+            let e = self.e_at(&run, at);
+            if let Some(r) = self.cycle.run.as_mut() {
+                r.ref_tick = at;
+                r.ref_e = e;
+            }
+        }
+    }
+
+    /// The timing registers changed at tick `at` while a cycle may run: the comparators
+    /// see the new values from the next µs on (spec-notes "timing registers written
+    /// mid-cycle").
+    pub(crate) fn replan_running(&mut self, at: u64) {
+        self.plan_key = None;
+        let Some(run) = self.cycle.run else { return };
+        let done = self.e_at(&run, at);
+        let tscyc = self.tscyc(run.block);
+        // The comparator can only match a TCNT value still to come.
+        let len = next_match(tscyc, run.tcntst, done);
+        self.ensure_plan(run.tcntst, len);
+        let cursor = self.plan.first_after(done);
+        if let Some(r) = self.cycle.run.as_mut() {
+            r.len = len;
+            r.cursor = cursor;
+        }
+        if let Some(until) = self.outputs.divclk_until {
+            self.outputs.divclk_until = Some(until.min(len));
+        }
+    }
+
+    fn tscyc(&self, block: u8) -> u16 {
+        // 410B §4.1 0FH/10H: TSCYC0 for transmission block 0, TSCYC1 for block 1.
+        if block == 0 {
+            self.s.tscyc[0]
+        } else {
+            self.s.tscyc[1]
+        }
+    }
+
+    fn ensure_plan(&mut self, tcntst: u16, len: u64) {
+        if self.plan_key != Some((tcntst, len)) {
+            self.plan = Arc::new(CyclePlan::build(&self.s, tcntst, len));
+            self.plan_key = Some((tcntst, len));
+        }
+    }
+
+    /// Processes everything the cycle machinery has at tick `tick`; returns whether a
+    /// cycle started.
+    pub(crate) fn process_cycle_tick(&mut self, tick: u64) -> bool {
+        let mut started = false;
+        if self.cycle.pending == Some(tick) {
+            self.cycle.pending = None;
+            if self.cycle.run.is_some() {
+                // spec-notes "retrigger": the cycle in progress is cut short.
+                self.end_cycle(tick, false);
+            }
+            self.start_cycle(tick, true);
+            started = true;
+        }
+        if let Some(run) = self.cycle.run {
+            if let Some(until) = self.outputs.divclk_until
+                && self.e_tick(&run, until) == tick
+            {
+                // 410B §4.1 1EH/1FH: DIV_CLK pulses last one µs (spec-notes).
+                self.outputs.divclk_until = None;
+            }
+            let mut cursor = run.cursor;
+            while let Some(entry) = self.plan.entries.get(cursor).copied() {
+                if entry.e >= run.len || self.e_tick(&run, entry.e) != tick {
+                    break;
+                }
+                self.apply_entry(&run, entry);
+                cursor += 1;
+            }
+            if let Some(r) = self.cycle.run.as_mut() {
+                r.cursor = cursor;
+            }
+            if self.e_tick(&run, run.len) == tick {
+                // The next cycle (if any) starts here and applies its offset-0 entries.
+                self.end_cycle(tick, true);
+                started |= self.cycle.run.is_some();
+            }
+        }
+        started
+    }
+
+    fn apply_entry(&mut self, run: &Run, entry: crate::cycle_plan::PlanEntry) {
+        self.flags.hi |= entry.set_hi;
+        if let Some(level) = entry.conclk {
+            self.outputs.conclk_set = level;
+        }
+        // 816 §2.7: in DIVCLKMODE = 1 only the chosen cycles pulse.
+        if entry.divclk_pulse && (!self.s.divclkmode || run.pulse_cycle) {
+            // 410B §4.1 5H.13 INT_DIVCLK: set with each DIV_CLK pulse (spec-notes).
+            self.flags.hi |= INT_DIVCLK;
+            self.outputs.divclk_until = Some((entry.e + 1).min(run.len));
+        }
+    }
+
+    /// Starts a communication cycle at tick `at`; `fresh` when started by a trigger
+    /// (NCYC is loaded), not by the end of the previous cycle.
+    pub(crate) fn start_cycle(&mut self, at: u64, fresh: bool) {
+        // 410B §4.1 0CH.2: the master sends PHAS0, so block COMBLK0 is processed
+        // (spec-notes "block selection"); the slave's choice by PHAS1 comes with MSTs.
+        let block = u8::from(self.s.comblk0);
+        let tcntst = self.s.tcntst;
+        let len = next_match(self.tscyc(block), tcntst, 0);
+        self.ensure_plan(tcntst, len);
+        if fresh {
+            // 410B §4.1 0CH.12-15 NCYC: cycles per trigger.
+            self.cycle.continuous = self.s.ncyc == 0;
+            self.cycle.cycles_left = self.s.ncyc;
+        }
+        // 816 §2.7: DIVCLKMODE = 1 pulses once every NDIVCLK cycles, first in the first.
+        let mut pulse_cycle = false;
+        if self.s.divclkmode && self.s.ndivclk != 0 {
+            pulse_cycle = self.outputs.divclk_countdown == 0;
+            self.outputs.divclk_countdown = if pulse_cycle {
+                self.s.ndivclk - 1
+            } else {
+                self.outputs.divclk_countdown - 1
+            };
+        }
+        // 410B §4.1 4H.2/3: INT_COMBLK0/1 "start transmission block 0/1".
+        self.flags.lo |= if block == 0 { INT_COMBLK0 } else { INT_COMBLK1 };
+        self.outputs.divclk_until = None;
+        let run = Run {
+            ref_tick: at,
+            ref_e: 0,
+            len,
+            block,
+            tcntst,
+            cursor: 0,
+            pulse_cycle,
+        };
+        self.cycle.run = Some(run);
+        // 816 §2.6.5: in master mode the MST start triggers the watchdog (WDOG_MSTEN).
+        if self.s.sends_mst() && self.s.wdog_msten {
+            self.wd.trigger(at, self.s.twdog, self.pre.period());
+        }
+        let mut cursor = 0;
+        while let Some(entry) = self.plan.entries.get(cursor).copied() {
+            if entry.e != 0 || entry.e >= len {
+                break;
+            }
+            self.apply_entry(&run, entry);
+            cursor += 1;
+        }
+        if let Some(r) = self.cycle.run.as_mut() {
+            r.cursor = cursor;
+        }
+    }
+
+    /// Ends the running cycle at tick `at`; `natural` when TCNT reached TSCYC (the next
+    /// cycle then follows at once if NCYC allows), not when a new trigger cut it short.
+    fn end_cycle(&mut self, at: u64, natural: bool) {
+        let Some(run) = self.cycle.run.take() else {
+            return;
+        };
+        // spec-notes "INT_COMEND": the block ends with its cycle until the telegram
+        // processor ends it at TEND.
+        self.flags.lo |= INT_COMEND;
+        self.outputs.divclk_until = None;
+        self.cycle.tcnt_hold = (u64::from(run.tcntst) + self.e_at(&run, at)) as u16;
+        if natural {
+            let more = if self.cycle.continuous {
+                true
+            } else {
+                self.cycle.cycles_left = self.cycle.cycles_left.saturating_sub(1);
+                self.cycle.cycles_left > 0
+            };
+            if more && self.cycle.pending != Some(at) {
+                self.start_cycle(at, false);
+            }
+        }
+    }
+}

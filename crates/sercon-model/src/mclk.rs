@@ -1,0 +1,80 @@
+//! MCLK periods ("ticks") and their conversion to and from picosecond instants.
+//!
+//! 816 §2.4.1: "the telegram processing unit and all other part of the circuitry are
+//! clocked by MCLK". Everything the model does happens on an MCLK edge; tick `k` is the
+//! `k`-th rising edge after time 0, at `floor(k · 10¹² / f_MCLK)` picoseconds (exact for
+//! 20 MHz and 32 MHz, never drifting for other frequencies).
+
+use sercos_wire::time::Instant;
+
+const PS_PER_S: u128 = 1_000_000_000_000;
+
+/// Converts between MCLK ticks and instants.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct MclkClock {
+    hz: u64,
+    /// Picoseconds per tick when that is a whole number (the fast path).
+    ps_per_tick: Option<u64>,
+}
+
+impl MclkClock {
+    /// A clock of `hz` (clamped to 1 Hz ..= 1 THz).
+    pub(crate) fn new(hz: u64) -> Self {
+        let hz = hz.clamp(1, 1_000_000_000_000);
+        let exact = (PS_PER_S % u128::from(hz) == 0).then(|| (PS_PER_S / u128::from(hz)) as u64);
+        MclkClock {
+            hz,
+            ps_per_tick: exact,
+        }
+    }
+
+    /// The instant of tick `k` (saturating at the end of representable time).
+    pub(crate) fn instant(&self, k: u64) -> Instant {
+        let ps = match self.ps_per_tick {
+            Some(p) => u128::from(k) * u128::from(p),
+            None => u128::from(k) * PS_PER_S / u128::from(self.hz),
+        };
+        Instant::from_picos(u64::try_from(ps).unwrap_or(u64::MAX))
+    }
+
+    /// The last tick at or before `t`.
+    pub(crate) fn tick_at_or_before(&self, t: Instant) -> u64 {
+        let ps = u128::from(t.as_picos());
+        let k = match self.ps_per_tick {
+            Some(p) => ps / u128::from(p),
+            // largest k with floor(k·10¹²/f) <= ps  <=>  k·10¹² < (ps+1)·f
+            None => ((ps + 1) * u128::from(self.hz) - 1) / PS_PER_S,
+        };
+        u64::try_from(k).unwrap_or(u64::MAX)
+    }
+
+    /// The first tick at or after `t`.
+    pub(crate) fn tick_at_or_after(&self, t: Instant) -> u64 {
+        let k = self.tick_at_or_before(t);
+        if self.instant(k) >= t {
+            k
+        } else {
+            k.saturating_add(1)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trips_exact_and_inexact_clocks() {
+        for hz in [20_000_000, 32_000_000, 30_000_000, 7] {
+            let c = MclkClock::new(hz);
+            for k in [0u64, 1, 2, 3, 999, 1_000_001] {
+                let t = c.instant(k);
+                assert_eq!(c.tick_at_or_before(t), k, "{hz} {k}");
+                assert_eq!(c.tick_at_or_after(t), k, "{hz} {k}");
+                let later = Instant::from_picos(t.as_picos() + 1);
+                assert_eq!(c.tick_at_or_before(later), k);
+                assert_eq!(c.tick_at_or_after(later), k + 1);
+            }
+        }
+    }
+}

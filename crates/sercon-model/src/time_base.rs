@@ -1,0 +1,115 @@
+//! The MCLK predivider that makes the chip's microsecond (MCLKDIV, MCLKST; 410B §4.1 0EH,
+//! 816 §2.11.1.2).
+//!
+//! 410B §4.1 0EH: "MCLKDIV: Predivider value: fMCLK/1 MHz - 1", so one "µs" of every
+//! timing register lasts `MCLKDIV + 1` MCLK periods. Reading (spec-notes "predivider"):
+//! the predivider counts MCLK periods up from MCLKST; when it has counted past MCLKDIV it
+//! wraps to 0 and the µs tick happens. It is loaded with MCLKST when the chip leaves reset
+//! and when timing control is triggered (CYCSTART, CYC_CLK), so MCLKST = 0 puts the
+//! trigger exactly on the µs grid and MCLKST = s shortens the first µs by `s` periods.
+
+/// The predivider: where its µs ticks fall, in MCLK ticks.
+///
+/// Invariant: the µs ticks at or after `anchor` are exactly `anchor + k · period`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Predivider {
+    /// A µs tick; ticks before it (the first, irregular µs) are not on the grid.
+    anchor: u64,
+    /// MCLKDIV + 1, in MCLK ticks.
+    period: u64,
+    /// Width of the MCLKDIV / MCLKST fields (5 on the 410B, 6 on the 816).
+    bits: u8,
+}
+
+impl Predivider {
+    /// A predivider loaded with `start` (MCLKST) at tick `at`, dividing by `mclkdiv + 1`.
+    pub(crate) fn loaded(at: u64, mclkdiv: u16, start: u16, bits: u8) -> Self {
+        let period = u64::from(mclkdiv) + 1;
+        Predivider {
+            anchor: first_wrap(at, u64::from(start), period, bits),
+            period,
+            bits,
+        }
+    }
+
+    /// MCLK ticks per µs (MCLKDIV + 1).
+    pub(crate) fn period(&self) -> u64 {
+        self.period
+    }
+
+    /// The first µs tick strictly after MCLK tick `k`.
+    pub(crate) fn tick_after(&self, k: u64) -> u64 {
+        if k < self.anchor {
+            self.anchor
+        } else {
+            let n = (k - self.anchor) / self.period + 1;
+            self.anchor.saturating_add(n.saturating_mul(self.period))
+        }
+    }
+
+    /// Reloads the predivider with MCLKST at tick `at` (timing-control trigger).
+    // 410B §4.1 0EH: "MCLKST: Initial value for predivider".
+    pub(crate) fn reload(&mut self, at: u64, start: u16) {
+        self.anchor = first_wrap(at, u64::from(start), self.period, self.bits);
+    }
+
+    /// A new MCLKDIV written at tick `at`: the counter keeps its count and now wraps after
+    /// `mclkdiv` (spec-notes "MCLKDIV written while counting").
+    pub(crate) fn set_divider(&mut self, at: u64, mclkdiv: u16) {
+        let new_period = u64::from(mclkdiv) + 1;
+        if new_period == self.period {
+            return;
+        }
+        let count = if at >= self.anchor {
+            (at - self.anchor) % self.period
+        } else {
+            // Still in the first, irregular µs: the count is what is left to run.
+            self.period.saturating_sub(self.anchor - at)
+        };
+        self.period = new_period;
+        self.anchor = first_wrap(at, count, new_period, self.bits);
+    }
+}
+
+/// The tick at which a counter holding `count` at tick `at` wraps, dividing by `period`.
+/// A count above the divider runs on to the end of the field and wraps through 0.
+fn first_wrap(at: u64, count: u64, period: u64, bits: u8) -> u64 {
+    let field = 1u64 << bits;
+    let to_wrap = if count < period {
+        period - count
+    } else {
+        field.saturating_sub(count) + period
+    };
+    at.saturating_add(to_wrap)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mclkst_zero_puts_the_load_on_the_grid() {
+        let p = Predivider::loaded(100, 19, 0, 5);
+        assert_eq!(p.tick_after(100), 120);
+        assert_eq!(p.tick_after(119), 120);
+        assert_eq!(p.tick_after(120), 140);
+    }
+
+    #[test]
+    fn mclkst_shortens_the_first_microsecond() {
+        let p = Predivider::loaded(100, 19, 5, 5);
+        assert_eq!(p.tick_after(100), 115);
+        assert_eq!(p.tick_after(115), 135);
+        // above MCLKDIV: counts to 31, wraps, then a whole period
+        let q = Predivider::loaded(0, 9, 30, 5);
+        assert_eq!(q.tick_after(0), 2 + 10);
+    }
+
+    #[test]
+    fn new_divider_keeps_the_count() {
+        let mut p = Predivider::loaded(0, 19, 0, 5);
+        p.set_divider(25, 9); // count 5 of 10
+        assert_eq!(p.tick_after(25), 30);
+        assert_eq!(p.tick_after(30), 40);
+    }
+}

@@ -1,0 +1,50 @@
+//! Helpers shared by the integration tests of sercon-model.
+#![allow(dead_code)]
+
+use sercon_model::pins::PinEvent;
+use sercon_model::{Chip, ChipConfig};
+use sercos_wire::time::{Duration, Instant};
+
+/// 410B §4.1 0CH.5 ENCONCLK.
+pub const CTRL0C_ENCONCLK: u16 = 1 << 5;
+/// 410B §4.1 0CH.6 POLCONCLK.
+pub const CTRL0C_POLCONCLK: u16 = 1 << 6;
+/// 410B §4.1 0CH.8 ENCYCCLK.
+pub const CTRL0C_ENCYCCLK: u16 = 1 << 8;
+/// 410B §4.1 0CH.9 POLCYCCLK.
+pub const CTRL0C_POLCYCCLK: u16 = 1 << 9;
+/// 410B §4.1 0CH.10 CYCSTART.
+pub const CTRL0C_CYCSTART: u16 = 1 << 10;
+/// 410B §4.1 0CH.11 RDCNT.
+pub const CTRL0C_RDCNT: u16 = 1 << 11;
+/// 410B §4.1 0CH.0 MSTEN, 0CH.1 MSTMASTER.
+pub const CTRL0C_MASTER: u16 = 0b11;
+
+/// A SERCON816 at 32 MHz whose predivider makes 1 µs (MCLKDIV = 31).
+pub fn chip816() -> Chip {
+    let mut chip = Chip::new(ChipConfig::sercon816());
+    sercon_regs::SerconBusExt::write(&mut chip, sercon_regs::Register::MclkDiv, 31);
+    chip
+}
+
+/// A SERCON410B at 20 MHz (MCLKDIV resets to 19: 1 µs).
+pub fn chip410() -> Chip {
+    Chip::new(ChipConfig::sercon410b())
+}
+
+/// `n` µs after time 0.
+pub fn us(n: u64) -> Instant {
+    Instant::ZERO + Duration::from_micros(n)
+}
+
+/// `n` ns after time 0.
+pub fn ns(n: u64) -> Instant {
+    Instant::ZERO + Duration::from_nanos(n)
+}
+
+/// Drains the chip's pin events.
+pub fn drain(chip: &mut Chip) -> Vec<PinEvent> {
+    let mut v = Vec::new();
+    chip.drain_pin_events(&mut v);
+    v
+}
