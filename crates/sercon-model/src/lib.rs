@@ -16,6 +16,7 @@ pub mod pins;
 mod register_access;
 mod register_file;
 mod reset;
+pub mod serial_settings;
 mod settings;
 mod time_base;
 mod timing_outputs;
