@@ -5,10 +5,11 @@ mod line_common;
 
 use line_common::{CONFIGS, data_to_line, decode_chunked, frame_data_bits};
 use sercos_wire::line::{
-    self, BitRate, BitSink, BitVec, BitWriter, Bits, Coding, Decoder, EncodeError, Encoder,
-    LineConfig, LineError, MAX_FRAME_BYTES, MAX_TELEGRAM_BYTES, OwnedDecoded, Polarity,
-    frame_bit_len, frame_duration_ps,
+    self, BitSink, BitVec, BitWriter, Bits, Coding, Decoder, EncodeError, Encoder, LineConfig,
+    LineError, MAX_FRAME_BYTES, MAX_TELEGRAM_BYTES, OwnedDecoded, Polarity, frame_bit_len,
+    frame_duration,
 };
+use sercos_wire::time::BitRate;
 
 const NRZ_PLAIN: LineConfig = LineConfig::new(Coding::Nrz, Polarity::LightOnHigh);
 
@@ -136,10 +137,10 @@ fn frame_bit_len_and_duration() {
     assert_eq!(n, frame_bit_len(&mst));
     assert_eq!(n, out.len());
     assert!(n > 16 + 32);
-    assert_eq!(frame_duration_ps(n, BitRate::Mbit16), n * 62_500);
-    assert_eq!(frame_duration_ps(n, BitRate::Mbit2), n * 500_000);
-    assert_eq!(BitRate::Mbit4.bit_time_ps(), 250_000);
-    assert_eq!(BitRate::Mbit8.bit_time_ps(), 125_000);
+    assert_eq!(frame_duration(n, BitRate::Mbit16).as_picos(), n * 62_500);
+    assert_eq!(frame_duration(n, BitRate::Mbit2).as_picos(), n * 500_000);
+    assert_eq!(BitRate::Mbit4.bit_time().as_picos(), 250_000);
+    assert_eq!(BitRate::Mbit8.bit_time().as_picos(), 125_000);
     // All 1s: a 0 after every five 1s.
     let ones = [0xFF; 10];
     let fcs = line::fcs(&ones).to_le_bytes();

@@ -75,7 +75,7 @@ fn stuffed_len(telegram: &[u8], fcs_bytes: [u8; 2]) -> u64 {
 /// Line bits of one telegram: both flags, ADR, data and FCS with the inserted 0s.
 ///
 /// The same count [`Encoder::encode`] returns; with
-/// [`frame_duration_ps`](super::frame_duration_ps) it gives the exact time the telegram
+/// [`frame_duration`](super::frame_duration) it gives the exact time the telegram
 /// occupies the line.
 pub fn frame_bit_len(telegram: &[u8]) -> u64 {
     2 * FLAG_BITS + stuffed_len(telegram, fcs(telegram).to_le_bytes())

@@ -45,7 +45,7 @@ pub use fcs::{FCS_LEN, fcs};
 #[cfg(feature = "alloc")]
 pub use frame::OwnedDecoded;
 pub use frame::{Decoded, Frame};
-pub use timing::{BitRate, frame_duration_ps};
+pub use timing::frame_duration;
 
 /// Flag that opens and closes every frame (ERRATA, Telegrams: BOF / EOF 7EH).
 pub const FLAG: u8 = 0x7E;
