@@ -9,6 +9,7 @@
 use sercon_regs::{Register, RegisterSpec, Variant, register_spec};
 
 use crate::Straps;
+use crate::serial_settings::repon_reset;
 
 /// Number of word addresses decoded by A6-1 (410B §2).
 const WORDS: usize = sercon_regs::register::REGISTER_SPACE_WORDS;
@@ -94,15 +95,5 @@ impl RegisterFile {
             clear: value & spec.w1c,
             actions: value & spec.write_action,
         }
-    }
-}
-
-/// REPON (1H.3) after a reset: on the 816 from pins TM0-1, 1 unless both are 0
-/// (816 §2.3.3 table); on the 410B always 1 (410B §4.1 1H.3, bold).
-// Kept private until `serial_settings::repon_reset` (modelaux) is in the tree.
-fn repon_reset(variant: Variant, straps: &Straps) -> bool {
-    match variant {
-        Variant::Sercon410b => true,
-        Variant::Sercon816 => straps.tm0 || straps.tm1,
     }
 }
