@@ -1,1 +1,2 @@
 //! SERCDRV: host driver for SERCOS masters and slaves, written against `SerconBus` only.
+pub mod idn_store;
