@@ -1,0 +1,214 @@
+//! Master mode (SCMASTER = 1): the container sends the MDT's service bits and info words
+//! and takes the AT's (410B §4.2.4, master table).
+
+use sercon_regs::ram::service::ScMaster;
+
+use super::buffer::Window;
+use super::container_ram::ContainerRam;
+use super::outcome::{ScInterrupts, ScOutcome};
+use super::record_bits::{AtService, MdtService};
+
+fn write_window(m: &ScMaster) -> Window {
+    Window {
+        present: m.pointers.wrdatpt,
+        last: m.pointers.wrdatlast,
+    }
+}
+
+fn read_window(m: &ScMaster) -> Window {
+    Window {
+        present: m.pointers.rddatpt,
+        last: m.pointers.rddatlast,
+    }
+}
+
+/// The handshake rule: the step is acknowledged when AHS equals MHS and BUSY is 0
+/// (sercos-telegrams.md AT status word bits 0–1; task reading of 410B §4.2.4 HS_MDT/HS_AT).
+fn acknowledged(m: &ScMaster) -> bool {
+    m.hs_at == m.hs_mdt && !m.busy_at
+}
+
+/// Whether the step about to go out (or in progress) is the last of its buffer.
+fn step_is_final(m: &ScMaster) -> bool {
+    if m.ls_mdt {
+        write_window(m).is_final(m.ninfo_write.count())
+    } else {
+        read_window(m).is_final(m.ninfo_read.count())
+    }
+}
+
+/// Fills the MDT record; starts a new step first if the last one is acknowledged and
+/// the microprocessor is not awaited.
+pub(super) fn transmit(ram: &mut ContainerRam<'_>, record: &mut [u16]) -> ScOutcome {
+    let before = ram.controls();
+    let mut m = ScMaster::from_words(before);
+    let mut out = ScOutcome::default();
+
+    // 410B §4.2.4 M_BUSY: "Service container waits for interaction of microprocessor";
+    // while it is set no new step starts and the present step is repeated.
+    if acknowledged(&m) && !m.m_busy {
+        // 410B §4.2.4 HS_MDT: handshake bit in MDT, toggled for every new step
+        // (sercos-telegrams.md MDT control word bit 0: "A toggle bit").
+        m.hs_mdt = !m.hs_mdt;
+        // 410B §4.2.4 SETEND: "END_MDT is to be set" — on the step that reaches the end of
+        // the buffer in use (spec-notes "Service containers").
+        m.end_mdt = m.setend && step_is_final(&m);
+        // ERR_CNT counts the cycles of the present step (spec-notes).
+        m.err_cnt = 0;
+        m.busy_cnt = false;
+        out.handshake = true;
+    }
+
+    if let Some((first, info)) = record.split_first_mut() {
+        // 410B §4.2.4 HS_MDT, L/S_MDT, END_MDT, ELEM_MDT go to MDT control word bits 5-0.
+        *first = MdtService {
+            mhs: m.hs_mdt,
+            write: m.ls_mdt,
+            last: m.end_mdt,
+            element: m.elem_mdt,
+        }
+        .put_into(*first);
+        // 410B §4.2.4 NINFO_WRITE, WRDATPT/WRDATLAST: the info words come from the
+        // write buffer at its present position.
+        out.info_words = write_window(&m).copy_out(ram, m.ninfo_write.count(), info);
+    }
+
+    ram.store_controls(before, m.to_words());
+    out.ram_accesses = ram.accesses();
+    out
+}
+
+/// Takes the AT record's service bits and, on an acknowledged step, its info words.
+pub(super) fn receive(ram: &mut ContainerRam<'_>, record: &[u16], ok: bool) -> ScOutcome {
+    let before = ram.controls();
+    let mut m = ScMaster::from_words(before);
+    let mut out = ScOutcome::default();
+
+    match record.split_first() {
+        Some((status, info)) if ok => {
+            // 410B §4.2.4 RECERR: last transmission was correct (0).
+            m.recerr = false;
+            take_at(ram, &mut m, AtService::from_word(*status), info, &mut out);
+        }
+        _ => {
+            // 410B §4.2.4 RECERR: last transmission was erroneous (1); nothing is taken.
+            m.recerr = true;
+        }
+    }
+
+    ram.store_controls(before, m.to_words());
+    out.ram_accesses = ram.accesses();
+    out
+}
+
+fn take_at(
+    ram: &mut ContainerRam<'_>,
+    m: &mut ScMaster,
+    at: AtService,
+    info: &[u16],
+    out: &mut ScOutcome,
+) {
+    let was_acknowledged = acknowledged(m);
+
+    // 410B §4.2.4 INT_CMD: "Slave has set command modification bit" (a 0 → 1 change).
+    if at.command_change && !m.cmd_at {
+        m.int_cmd = true;
+        out.raise(ScInterrupts::INT_CMD);
+    }
+    // 410B §4.2.4 HS_AT, BUSY_AT, ERR_AT, CMD_AT: taken from the AT.
+    m.hs_at = at.ahs;
+    m.busy_at = at.busy;
+    m.err_at = at.error;
+    m.cmd_at = at.command_change;
+
+    let now_acknowledged = acknowledged(m);
+    if was_acknowledged && !now_acknowledged {
+        // 410B §4.2.4 INT_SC_ERR: protocol error — the slave withdrew an acknowledgement
+        // although MHS did not change (spec-notes).
+        m.int_sc_err = true;
+        m.m_busy = true;
+        out.raise(ScInterrupts::INT_SC_ERR);
+        return;
+    }
+    if was_acknowledged || !now_acknowledged {
+        return;
+    }
+
+    // The present step is acknowledged.
+    out.handshake = true;
+    if at.error {
+        // 410B §4.2.4 INT_ERR: slave reports error. The error code (the info words) is
+        // kept in the read buffer at RDDATPT without advancing it (spec-notes).
+        m.int_err = true;
+        m.m_busy = true;
+        out.raise(ScInterrupts::INT_ERR);
+        out.info_words = read_window(m).copy_in(ram, m.ninfo_read.count(), info);
+        return;
+    }
+    if m.ls_mdt {
+        // Write: the words at WRDATPT have arrived; move on by NINFO_WRITE.
+        let window = write_window(m);
+        let count = m.ninfo_write.count();
+        m.pointers.wrdatpt = window.advanced(count);
+        if window.is_final(count) {
+            // 410B §4.2.4 INT_END_WRBUF: end of write buffer is reached.
+            m.int_end_wrbuf = true;
+            m.m_busy = true;
+            out.raise(ScInterrupts::INT_END_WRBUF);
+        }
+    } else {
+        // Read: NINFO_READ info words of the AT go to the read buffer at RDDATPT.
+        let window = read_window(m);
+        let count = m.ninfo_read.count();
+        out.info_words = window.copy_in(ram, count, info);
+        m.pointers.rddatpt = window.advanced(count);
+        if window.is_final(count) {
+            // 410B §4.2.4 INT_END_RDBUF: end of read buffer is reached.
+            m.int_end_rdbuf = true;
+            m.m_busy = true;
+            out.raise(ScInterrupts::INT_END_RDBUF);
+        }
+    }
+}
+
+/// Counts one communication cycle of an unacknowledged step (ERR_CNT, BUSY_CNT) and
+/// raises the timeouts of 0DH.
+pub(super) fn cycle(ram: &mut ContainerRam<'_>, hs_timeout: u8, busy_timeout: u8) -> ScOutcome {
+    let before = ram.controls();
+    let mut m = ScMaster::from_words(before);
+    let mut out = ScOutcome::default();
+
+    if !acknowledged(&m) {
+        // 410B §4.2.4 BUSY_CNT: the error counter counts differences of handshake (0) or
+        // BUSY cycles (1); a change of kind restarts it (spec-notes).
+        let counting_busy = m.busy_at;
+        if m.busy_cnt != counting_busy {
+            m.busy_cnt = counting_busy;
+            m.err_cnt = 0;
+        }
+        // ERR_CNT stops at 255 (spec-notes).
+        let previous = m.err_cnt;
+        m.err_cnt = m.err_cnt.saturating_add(1);
+        // 410B §4.1 0DH HS_TIMEOUT / BUSY_TIMEOUT, in cycles; 0 = no timeout (spec-notes).
+        let (limit, bit) = if counting_busy {
+            (busy_timeout, ScInterrupts::INT_BUSY_TIMEOUT)
+        } else {
+            (hs_timeout, ScInterrupts::INT_HS_TIMEOUT)
+        };
+        if limit != 0 && m.err_cnt == limit && previous != limit {
+            if counting_busy {
+                // 410B §4.2.4 INT_BUSY_TIMEOUT.
+                m.int_busy_timeout = true;
+            } else {
+                // 410B §4.2.4 INT_HS_TIMEOUT.
+                m.int_hs_timeout = true;
+            }
+            m.m_busy = true;
+            out.raise(bit);
+        }
+    }
+
+    ram.store_controls(before, m.to_words());
+    out.ram_accesses = ram.accesses();
+    out
+}
