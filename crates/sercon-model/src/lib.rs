@@ -17,6 +17,7 @@ mod register_access;
 mod register_file;
 mod reset;
 pub mod serial_settings;
+pub mod service_container;
 mod settings;
 mod time_base;
 mod timing_outputs;
