@@ -23,7 +23,7 @@ const ALL_OPERATION_DATA: Idn = Idn::from_raw(17);
 pub(crate) const DIAGNOSTIC_MESSAGE: Idn = Idn::from_raw(95);
 
 /// The IDN database of one emulated drive.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct IdnDatabase {
     parameters: BTreeMap<Idn, Parameter>,
     commands: BTreeMap<Idn, CommandStatus>,
