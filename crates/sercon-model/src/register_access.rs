@@ -119,12 +119,10 @@ pub(crate) fn write(chip: &mut Chip, address: u8, value: u16) {
                 e.wd.start(at, e.s.twdog, e.pre.period());
             }
         }
-        Register::WdogTrig => {
-            // 816 §2.6.4: "writing the value 42H to the control bits WDOG_TRIG (29H,7-0)";
-            // any other value does nothing.
-            if req.actions & 0x00FF == 0x0042 {
-                e.wd.trigger(at, e.s.twdog, e.pre.period());
-            }
+        // 816 §2.6.4: "writing the value 42H to the control bits WDOG_TRIG (29H,7-0)";
+        // any other value does nothing.
+        Register::WdogTrig if req.actions & 0x00FF == 0x0042 => {
+            e.wd.trigger(at, e.s.twdog, e.pre.period());
         }
         _ => {}
     }

@@ -19,7 +19,8 @@ pub(crate) fn reset_state(chip: &mut Chip, at: u64) {
 
 /// RSTN changed to `level` at the chip's current time.
 pub(crate) fn set_rstn(chip: &mut Chip, level: bool) {
-    if level == !chip.in_reset {
+    if level != chip.in_reset {
+        // Already at that level.
         return;
     }
     let at = chip.action_tick();
