@@ -2,6 +2,9 @@
 //! `../shared/captures/` (README there: Beckhoff FC7502 master, four TC2000R drives, phase 0 to
 //! 4), and against files that are not captures.
 
+// A failed unwrap here is a failed test (clippy.toml allows it in #[test] fns; helpers too).
+#![allow(clippy::unwrap_used)]
+
 use std::path::PathBuf;
 use std::process::Command;
 
