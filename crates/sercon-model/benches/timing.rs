@@ -92,6 +92,13 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("timing_816_62us5_1s");
     g.sample_size(20);
     let traced = PinSet::of(&[Pin::ConClk, Pin::DivClk, Pin::Int0]);
+    // The programming really runs 16 000 cycles: CON_CLK 2 edges and DIV_CLK 8 edges a cycle,
+    // INT0 rising once (free running, never cleared) or once a cycle plus its clear (host).
+    let free = run_free(traced);
+    let host = run_with_host(traced);
+    assert_eq!(free, 16_000 * 10 + 1, "free-running events in 1 s");
+    assert_eq!(host, 16_000 * 12, "events with a host clearing INT0 in 1 s");
+    eprintln!("events in 1 s: free running {free}, host clearing INT0 {host}");
     for (name, pins) in [("untraced", PinSet::EMPTY), ("traced", traced)] {
         g.bench_function(format!("free_running/{name}"), |b| {
             b.iter_batched(|| pins, run_free, BatchSize::SmallInput)
