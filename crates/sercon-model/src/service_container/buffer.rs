@@ -63,10 +63,11 @@ impl Window {
     pub(super) fn copy_in(self, ram: &mut ContainerRam<'_>, count: u8, info: &[u16]) -> u8 {
         let mut stored = 0;
         for (word, position) in info.iter().zip(self.positions(count)) {
-            if let Some(p) = position {
-                ram.set_buffer_word(p, *word);
-                stored += 1;
-            }
+            let taken = match position {
+                Some(p) => ram.set_buffer_word(p, *word),
+                None => false,
+            };
+            stored += u8::from(taken);
         }
         stored
     }

@@ -95,12 +95,14 @@ impl<'a> ContainerRam<'a> {
         }
     }
 
-    /// Writes the buffer word at `position`; positions below the buffer are ignored so
-    /// that data never overwrites the control words.
-    pub(super) fn set_buffer_word(&mut self, position: u8, value: u16) {
-        if position >= SC_BUFFER_OFFSET {
+    /// Writes the buffer word at `position` and says whether it did; positions below the
+    /// buffer are ignored so that data never overwrites the control words.
+    pub(super) fn set_buffer_word(&mut self, position: u8, value: u16) -> bool {
+        let inside = position >= SC_BUFFER_OFFSET;
+        if inside {
             self.write(position, value);
         }
+        inside
     }
 
     /// RAM words read or written so far.
