@@ -236,8 +236,7 @@ fn protocol_errors_raise_int_sc_err() {
 
     // Slave: the master toggles MHS while the slave is still busy.
     let mut link = Link::new(Variant::Sercon410b);
-    let mut drive = Drive::default();
-    drive.asleep = true;
+    // No drive reacts: the slave stays busy after the element change.
     link.master_write(1, &[0x0024], 1);
     link.cycle(); // element change: slave busy
     let s = link.slave_sc();

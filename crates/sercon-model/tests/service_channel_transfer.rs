@@ -145,8 +145,10 @@ fn four_info_words_per_step_take_a_quarter_of_the_handshakes() {
 #[test]
 fn one_word_value_written_in_one_step() {
     let mut link = Link::new(Variant::Sercon410b);
-    let mut drive = Drive::default();
-    drive.idn = 0x0024;
+    let mut drive = Drive {
+        idn: 0x0024,
+        ..Drive::default()
+    };
     // Master container at 100H: word 0 = ELEM_MDT 7 (38H) | L/S_MDT (2) | SETEND (40H),
     // HS_MDT 0, M_BUSY 0, NINFO_WRITE 1 word (code 0); word 1 = HS_AT 0; word 2 =
     // WRDATPT 5, WRDATLAST 5; word 3 = 0; word 4 = 0; buffer word 5 = the value 1234H.

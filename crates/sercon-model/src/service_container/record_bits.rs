@@ -93,7 +93,8 @@ mod tests {
     // sercos-telegrams.md MDT control word bits 5-0; ERRATA "service info in a container".
     #[test]
     fn mdt_bits_round_trip_and_keep_host_bits() {
-        let word = 0xE000 | 0b101_1_0_1;
+        // element 101, last 1, write 0, MHS 1.
+        let word = 0xE000 | 0b10_1101;
         let bits = MdtService::from_word(word);
         assert_eq!(
             bits,
