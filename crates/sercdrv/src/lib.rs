@@ -1,2 +1,3 @@
 //! SERCDRV: host driver for SERCOS masters and slaves, written against `SerconBus` only.
 pub mod idn_store;
+pub mod timing;
