@@ -10,7 +10,7 @@
 //! 1H.10 ENTSBAUD, 1H.12 RXDNRZ, 1H.15 SWBAUD16). Readings chosen where the documents are
 //! silent are in `docs/spec-notes.md`, "Serial interface settings".
 //!
-//! [`SerconBus`]: sercon_regs
+//! [`SerconBus`]: sercon_regs::SerconBus
 
 use sercon_regs::Variant;
 use sercos_wire::time::{BitRate, Duration};
