@@ -1,3 +1,4 @@
 //! SERCDRV: host driver for SERCOS masters and slaves, written against `SerconBus` only.
 pub mod idn_store;
+pub mod ram_layout;
 pub mod timing;
