@@ -26,6 +26,8 @@ pub struct Chip {
     pub(crate) in_reset: bool,
     /// Level at input CYC_CLK (410B §4.1 0CH.7).
     pub(crate) cyc_clk: bool,
+    /// The serial port: transmitter, receiver, repeater (410B §1, §2).
+    pub(crate) serial: crate::serial_port::SerialPort,
 }
 
 impl Chip {
@@ -33,11 +35,22 @@ impl Chip {
     /// [`ChipConfig::validate`]) runs with its MCLK clamped to 1 Hz ..= 1 THz.
     pub fn new(cfg: ChipConfig) -> Chip {
         let clock = MclkClock::new(cfg.mclk_hz);
+        let engine = Engine::after_reset(cfg.variant, &cfg.straps, 0);
+        let serial = crate::serial_port::SerialPort::new(
+            cfg.variant,
+            &cfg.straps,
+            cfg.sclk_hz,
+            (
+                engine.regs.stored(sercon_regs::Register::Ctrl1),
+                engine.regs.stored(sercon_regs::Register::Ctrl2),
+            ),
+            Instant::ZERO,
+        );
         Chip {
             cfg,
             clock,
             now: Instant::ZERO,
-            engine: Engine::after_reset(cfg.variant, &cfg.straps, 0),
+            engine,
             // 410B §1: 1024 words; 816 §2.5: 2048 words. The RAM has no reset value
             // (spec-notes "RAM after power-up": 0).
             ram: vec![0; usize::from(cfg.variant.ram_words())],
@@ -45,6 +58,7 @@ impl Chip {
             events: Vec::new(),
             in_reset: false,
             cyc_clk: false,
+            serial,
         }
     }
 
@@ -72,7 +86,21 @@ impl Chip {
         }
         if !self.in_reset {
             let limit = self.clock.tick_at_or_before(t);
-            while let Some(step) = self.engine.step(limit) {
+            loop {
+                // The serial port's changes (exact instants) go before MCLK ticks at or
+                // after them.
+                let engine_tick = self.engine.next_tick().filter(|k| *k <= limit);
+                let serial_tick = self
+                    .serial_next_event()
+                    .filter(|a| *a <= t)
+                    .map(|a| self.clock.tick_at_or_after(a));
+                if serial_tick.is_some_and(|s| engine_tick.is_none_or(|e| s <= e)) {
+                    self.serial_step(t);
+                    continue;
+                }
+                let Some(step) = self.engine.step(limit) else {
+                    break;
+                };
                 if step.changed != 0 {
                     let at = self.clock.instant(step.tick);
                     self.emit(step.changed, at);
@@ -89,7 +117,11 @@ impl Chip {
         if self.in_reset {
             return None;
         }
-        crate::deadline::next_deadline(self)
+        let core = crate::deadline::next_deadline(self);
+        match (core, self.serial_next_event()) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
     }
 
     /// Chooses which pins produce [`PinEvent`]s from now on.
@@ -112,8 +144,10 @@ impl Chip {
     pub fn pin_level(&self, pin: Pin) -> bool {
         match DRIVEN.iter().position(|p| *p == pin) {
             Some(i) => self.engine.levels.get(i).copied().unwrap_or(false),
-            // 410B §2: IDLE, REACTN, L_ERRN are active low; DMAREQR/T active high.
-            None => !matches!(pin, Pin::DmaReqR | Pin::DmaReqT),
+            // 410B §2: DMAREQR/T active high.
+            None if matches!(pin, Pin::DmaReqR | Pin::DmaReqT) => false,
+            // 410B §2: IDLE, REACTN, L_ERRN (active low), driven by the serial port.
+            None => self.serial_pin_level(pin).unwrap_or(true),
         }
     }
 

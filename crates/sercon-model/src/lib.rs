@@ -16,6 +16,7 @@ pub mod pins;
 mod register_access;
 mod register_file;
 mod reset;
+pub mod serial_port;
 pub mod serial_settings;
 pub mod service_container;
 mod settings;

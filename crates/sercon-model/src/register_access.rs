@@ -31,7 +31,11 @@ fn status_bits(chip: &Chip, register: Register) -> u16 {
         // 410B §4.1 1H.4 level at pin 28 (SREGEN; SBAUD16 on the 816), 1H.11 SBAUD.
         Register::Ctrl1 => bit(straps.sbaud16, 4) | bit(straps.sbaud, 11),
         // 410B §4.1 2H.10-11 levels at TM0-1; RDIST/FIBBR come with the serial interface.
-        Register::Ctrl2 => bit(straps.tm0, 10) | bit(straps.tm1, 11),
+        // 410B §4.1 2H.12 RDIST, 2H.13 FIBBR from the serial port's receiver.
+        Register::Ctrl2 => {
+            let (rdist, fibbr, _, _) = chip.serial_status();
+            bit(straps.tm0, 10) | bit(straps.tm1, 11) | bit(rdist, 12) | bit(fibbr, 13)
+        }
         Register::Ctrl3 => {
             let run = e.cycle.run.as_ref();
             // 410B §4.1 3H.0 INTFL0, 3H.3 INTFL1, 3H.6 COMACT, 3H.7 COMBLK; 3H.14 IDLE
@@ -41,8 +45,8 @@ fn status_bits(chip: &Chip, register: Register) -> u16 {
                 | bit(e.flags.request(&e.s, 1), 3)
                 | bit(run.is_some(), 6)
                 | bit(run.is_some_and(|r| r.block == 1), 7)
-                | bit(true, 14)
-                | bit(true, 15)
+                | bit(chip.serial_status().2, 14)
+                | bit(chip.serial_status().3, 15)
         }
         // 410B §4.1 4H/5H: the interrupt flags.
         Register::IntFlagsLo => e.flags.lo,
@@ -126,6 +130,8 @@ pub(crate) fn write(chip: &mut Chip, address: u8, value: u16) {
         }
         _ => {}
     }
+    // 410B §4.1 1H, 2H: the serial port follows its settings from the write on.
+    chip.serial_registers_changed();
     chip.settle();
 }
 

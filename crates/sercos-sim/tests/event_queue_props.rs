@@ -1,6 +1,8 @@
 //! Property tests of the event queue: events come out in (time, component, sequence) order
 //! whatever the insertion order, cancelled events never come out, and the same operations
 //! always give the same run (DESIGN.md, Principles: "Deterministic", "Time is injected").
+// Test helpers may unwrap: a failure is the test failing.
+#![allow(clippy::unwrap_used)]
 
 use proptest::prelude::*;
 use sercos_sim::event_queue::{ComponentId, EventHandle, EventQueue};

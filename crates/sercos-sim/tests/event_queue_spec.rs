@@ -1,5 +1,7 @@
 //! Example tests of the event queue's rules (DESIGN.md, Principles: time is an integer count
 //! of picoseconds, injected; idle time is skipped; deterministic).
+// Test helpers may unwrap: a failure is the test failing.
+#![allow(clippy::unwrap_used)]
 
 use sercos_sim::event_queue::{ComponentId, EventQueue, ScheduleError};
 use sercos_wire::time::{BitRate, Duration, Instant};

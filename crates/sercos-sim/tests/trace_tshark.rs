@@ -4,6 +4,8 @@
 //!
 //! tshark is required: without it this test fails and says how to install it
 //! (`apt-get install -y tshark`, see docs/traces.md).
+// Test helpers may unwrap: a failure is the test failing.
+#![allow(clippy::unwrap_used)]
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -1,0 +1,153 @@
+//! The chip's public line interface: segments in and out, received frames, and the serial
+//! port's status changes applied in time order.
+
+use sercon_regs::Register;
+use sercos_wire::time::Instant;
+
+use super::{LineSegment, RxFrame, SerialPort};
+use crate::chip::Chip;
+use crate::pins::{Pin, PinEvent};
+
+/// 410B §4.1 4H.0 INT_RDIST.
+const INT_RDIST: u16 = 1 << 0;
+/// 410B §4.1 4H.1 INT_FIBBR.
+const INT_FIBBR: u16 = 1 << 1;
+
+impl Chip {
+    /// Hands the chip one segment of its receive line (RxD), in light levels.
+    ///
+    /// Segments must come in order of their start, and before the chip is advanced past the
+    /// start (later ones are taken as they come, their past part is not replayed). Received
+    /// telegrams become [`RxFrame`]s at once ([`Chip::take_rx_frames`]); REACTN, FIBBR, RDIST
+    /// and their interrupts follow when the chip's time reaches them. With the repeater on
+    /// (1H.3 REPON) the segment is forwarded to the output.
+    pub fn line_input(&mut self, seg: LineSegment) {
+        self.serial.line_input(seg);
+    }
+
+    /// Moves the output segments (TxD, in light levels) that start at or before
+    /// [`Chip::now`] to the end of `out`. A segment lasts until the next one starts; see
+    /// [`LineSegment`].
+    pub fn take_line_output(&mut self, out: &mut Vec<LineSegment>) {
+        let now = self.now;
+        self.serial.take_output(now, out);
+    }
+
+    /// When the next output segment not yet given by [`Chip::take_line_output`] starts.
+    pub fn next_line_output_at(&self) -> Option<Instant> {
+        self.serial.next_output_at()
+    }
+
+    /// Moves the telegrams received so far (time-ordered per input segment) to `out`.
+    pub fn take_rx_frames(&mut self, out: &mut Vec<RxFrame>) {
+        self.serial.take_rx_frames(out);
+    }
+
+    /// Sends `telegram` (ADR and data, no FCS) from `at` (≥ [`Chip::now`]) as the telegram
+    /// processor does, e.g. for a tool that uses the serial interface on its own (410B §1,
+    /// "other real-time communications tasks"). Returns the instant the closing flag has
+    /// left, or `None` when nothing is sent (transmitter off, a test mode, no bit clock, an
+    /// empty or too long telegram).
+    pub fn transmit_telegram(&mut self, at: Instant, telegram: &[u8]) -> Option<Instant> {
+        let at = at.max(self.now);
+        let end = self.serial.transmit(at, telegram);
+        self.settle_serial();
+        end
+    }
+
+    /// Re-reads 1H and 2H into the serial port at [`Chip::now`] (after a register write or
+    /// a reset).
+    pub(crate) fn serial_registers_changed(&mut self) {
+        let lerrn = self.serial.lerrn();
+        let regs = (
+            self.engine.regs.stored(Register::Ctrl1),
+            self.engine.regs.stored(Register::Ctrl2),
+        );
+        let (variant, straps, sclk, now) = (
+            self.cfg.variant,
+            self.cfg.straps,
+            self.cfg.sclk_hz,
+            self.now,
+        );
+        self.serial.reconfigure(variant, &straps, sclk, regs, now);
+        if self.serial.lerrn() != lerrn {
+            self.pin_event(Pin::LErrn, self.serial.lerrn(), now);
+        }
+    }
+
+    /// Applies the serial port's changes due at or before [`Chip::now`].
+    fn settle_serial(&mut self) {
+        let now = self.now;
+        while self.serial_step(now) {}
+    }
+
+    /// Applies the serial port's changes at its earliest instant if that is at or before
+    /// `t`; returns whether there were any.
+    pub(crate) fn serial_step(&mut self, t: Instant) -> bool {
+        let before = (
+            self.serial.idle(),
+            self.serial.reactn(),
+            self.serial.lerrn(),
+        );
+        let Some((at, applied)) = self.serial.step(t) else {
+            return false;
+        };
+        if !self.in_reset {
+            // 410B §4.1 4H.0 INT_RDIST "receive data distorted", 4H.1 INT_FIBBR "no receive
+            // data": set when RDIST / FIBBR become 1.
+            if applied.rdist_rose {
+                self.engine.flags.lo |= INT_RDIST;
+            }
+            if applied.fibbr_rose {
+                self.engine.flags.lo |= INT_FIBBR;
+            }
+        }
+        let after = (
+            self.serial.idle(),
+            self.serial.reactn(),
+            self.serial.lerrn(),
+        );
+        if after.0 != before.0 {
+            self.pin_event(Pin::Idle, after.0, at);
+        }
+        if after.1 != before.1 {
+            self.pin_event(Pin::Reactn, after.1, at);
+        }
+        if after.2 != before.2 {
+            self.pin_event(Pin::LErrn, after.2, at);
+        }
+        let changed = self.engine.update_levels();
+        if changed != 0 {
+            self.emit(changed, at);
+        }
+        true
+    }
+
+    /// Records a level change of a serial-port pin if it is traced.
+    fn pin_event(&mut self, pin: Pin, level: bool, at: Instant) {
+        if self.traced.contains(pin) {
+            self.events.push(PinEvent { at, pin, level });
+        }
+    }
+
+    /// The level of a serial-port output pin (IDLE, REACTN, L_ERRN), if `pin` is one.
+    pub(crate) fn serial_pin_level(&self, pin: Pin) -> Option<bool> {
+        match pin {
+            Pin::Idle => Some(self.serial.idle()),
+            Pin::Reactn => Some(self.serial.reactn()),
+            Pin::LErrn => Some(self.serial.lerrn()),
+            _ => None,
+        }
+    }
+
+    /// The serial port's status bits for register reads: (RDIST, FIBBR, IDLE, REACTN).
+    pub(crate) fn serial_status(&self) -> (bool, bool, bool, bool) {
+        let s: &SerialPort = &self.serial;
+        (s.rdist(), s.fibbr(), s.idle(), s.reactn())
+    }
+
+    /// The next instant the serial port changes a status.
+    pub(crate) fn serial_next_event(&self) -> Option<Instant> {
+        self.serial.next_event_at()
+    }
+}

@@ -1,0 +1,289 @@
+//! The serial port: transmitter, receiver and repeater of the serial interface (410B §1, §2;
+//! §4.1 1H, 2H, 3H.14–15, 4H.0–1; 816 §2.3), and the line interface through which a ring
+//! simulation connects chips ([`LineSegment`]).
+//!
+//! Readings the documents leave open are in `docs/spec-notes.md`, "Serial port".
+
+mod line_events;
+mod line_interface;
+mod port_config;
+mod receiver;
+mod segment;
+mod transmitter;
+
+use sercon_regs::Variant;
+use sercos_wire::time::{BitRate, Duration, Instant};
+
+use crate::config::Straps;
+pub use segment::{FrameHint, LineSegment, LineSignal};
+
+use line_events::{Change, LineEvents};
+use port_config::{PortConfig, TxMode};
+use receiver::{Receiver, Sinks};
+use transmitter::Transmitter;
+
+/// Bit times without an edge on the receive data after which FIBBR (2H.13) is set
+/// (`docs/spec-notes.md`, "Serial port"): more than four times the longest edge-free run of a
+/// valid NRZI signal (the six 1s of a flag).
+pub const FIBBR_BIT_TIMES: u64 = 32;
+
+/// Data bits of the pre-frame sync word sent before an own telegram when PRESYNC (1H.8) = 1:
+/// a 16-bit word of data 0s, i.e. 16 bit times of the NRZI square wave
+/// (`docs/spec-notes.md`, "Serial port").
+pub const PRESYNC_BITS: u64 = 16;
+
+/// Bit times (of the received signal) the repeater needs from input to output for clock and
+/// data regeneration (`docs/spec-notes.md`, "Serial port").
+pub const REPEATER_LATENCY_BITS: u64 = 2;
+
+/// A telegram the receiver saw, known as soon as its line segment was handed to the chip.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RxFrame {
+    /// First bit of the opening flag.
+    pub start: Instant,
+    /// End of the closing flag (or of the bit that broke the frame).
+    pub end: Instant,
+    /// Telegram bytes (ADR and data, FCS stripped); for a broken frame, the whole bytes
+    /// received.
+    pub bytes: Vec<u8>,
+    /// The frame ended with a flag and its FCS matched.
+    pub fcs_ok: bool,
+}
+
+/// The serial port of one chip.
+#[derive(Debug, Clone)]
+pub(crate) struct SerialPort {
+    cfg: PortConfig,
+    tx: Transmitter,
+    rx: Receiver,
+    events: LineEvents,
+    rx_frames: Vec<RxFrame>,
+    /// Level at pin IDLE (410B §2, active low).
+    idle: bool,
+    /// Level at pin REACTN (410B §2, active low).
+    reactn: bool,
+    /// 410B §4.1 2H.13 FIBBR.
+    fibbr: bool,
+    /// 410B §4.1 2H.12 RDIST.
+    rdist: bool,
+}
+
+/// The status a change altered, for the chip to report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Applied {
+    /// FIBBR went from 0 to 1 (410B §4.1 4H.1 INT_FIBBR).
+    pub(crate) fibbr_rose: bool,
+    /// RDIST went from 0 to 1 (410B §4.1 4H.0 INT_RDIST).
+    pub(crate) rdist_rose: bool,
+}
+
+impl SerialPort {
+    /// The port at `at` with the registers 1H and 2H as given.
+    pub(crate) fn new(
+        variant: Variant,
+        straps: &Straps,
+        sclk_hz: u64,
+        regs: (u16, u16),
+        at: Instant,
+    ) -> Self {
+        let cfg = PortConfig::decode(variant, straps, sclk_hz, regs.0, regs.1);
+        let timeout = cfg
+            .bit_time
+            .unwrap_or(BitRate::Mbit2.bit_time())
+            .saturating_mul(FIBBR_BIT_TIMES);
+        let mut port = SerialPort {
+            cfg,
+            tx: Transmitter::default(),
+            rx: Receiver::new(at, timeout),
+            events: LineEvents::default(),
+            rx_frames: Vec::new(),
+            idle: true,
+            reactn: true,
+            fibbr: false,
+            rdist: false,
+        };
+        port.start_background(at);
+        port
+    }
+
+    /// New register values at `now`.
+    pub(crate) fn reconfigure(
+        &mut self,
+        variant: Variant,
+        straps: &Straps,
+        sclk_hz: u64,
+        regs: (u16, u16),
+        now: Instant,
+    ) {
+        let cfg = PortConfig::decode(variant, straps, sclk_hz, regs.0, regs.1);
+        let old = self.cfg;
+        self.cfg = cfg;
+        if cfg.tx_mode != old.tx_mode
+            || cfg.bit_time != old.bit_time
+            || cfg.polrxd != old.polrxd
+            || cfg.poltxd != old.poltxd
+        {
+            self.start_background(now);
+        }
+    }
+
+    /// The bit time the transmitter uses: its own, or with an external bit clock the one of
+    /// the received signal (410B §2 RxC: with the repeater on, RxC clocks the transmitter too).
+    fn tx_bit_time(&self) -> Option<Duration> {
+        self.cfg.bit_time.or(self.rx.last_bit_time())
+    }
+
+    /// Starts the background signal of the current transmitter mode at `at`.
+    fn start_background(&mut self, at: Instant) {
+        let level = self.tx.level_at(at);
+        let bt = self.tx_bit_time();
+        let steady = |signal| LineSegment::steady(at, bt.unwrap_or(Duration::ZERO), signal, level);
+        // 410B §4.1 1H.9 POLTXD: a transmitter set to "light on when TxD = 1" inverts the
+        // light of the line interface's transceiver (spec-notes "Serial port").
+        let light = |on: bool| {
+            if on != self.cfg.poltxd {
+                LineSignal::Light
+            } else {
+                LineSignal::Dark
+            }
+        };
+        let seg = match (self.cfg.tx_mode, bt) {
+            // 410B §2 TxD1: high impedance; the fibre is dark.
+            (TxMode::Off, _) => steady(LineSignal::Dark),
+            // 410B §2 TM0: "continuous signal light".
+            (TxMode::ContinuousLight, _) => steady(light(true)),
+            // No bit clock: no filler (spec-notes "Serial port").
+            (TxMode::ZeroBitStream | TxMode::Filler, None) => steady(light(false)),
+            // 410B §2 TM1: "zero bit stream"; sercos-facts: filler between telegrams.
+            (TxMode::ZeroBitStream | TxMode::Filler, Some(_)) => steady(LineSignal::Filler),
+            (TxMode::Repeat, _) => match self.rx.last_segment().and_then(|s| s.from_instant(at)) {
+                Some(current) => self.forwarded(current),
+                None => steady(LineSignal::Dark),
+            },
+        };
+        self.tx.push_background(seg);
+    }
+
+    /// What the repeater makes of a received segment: regenerated (no distortion), delayed by
+    /// the repeater latency, inverted when POLRXD and POLTXD differ.
+    fn forwarded(&self, seg: LineSegment) -> LineSegment {
+        let latency = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        let mut out = seg.delayed(latency);
+        out.distorted = false;
+        if self.cfg.polrxd != self.cfg.poltxd {
+            out = out.inverted();
+        }
+        out
+    }
+
+    /// Receives one segment of the line input.
+    pub(crate) fn line_input(&mut self, seg: LineSegment) {
+        self.rx.input(
+            &seg,
+            &self.cfg,
+            Sinks {
+                events: &mut self.events,
+                frames: &mut self.rx_frames,
+            },
+        );
+        // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
+        if self.cfg.tx_mode == TxMode::Repeat {
+            let fwd = self.forwarded(seg);
+            self.tx.push_background(fwd);
+        }
+    }
+
+    /// Queues an own telegram at `at`; returns when its last bit leaves, `None` when nothing
+    /// is sent (transmitter off, test mode, no bit clock, telegram not encodable).
+    pub(crate) fn transmit(&mut self, at: Instant, telegram: &[u8]) -> Option<Instant> {
+        if !self.cfg.sends_telegrams() {
+            return None;
+        }
+        let bt = self.tx_bit_time()?;
+        let placed = self.tx.transmit(at, bt, self.cfg.presync, telegram)?;
+        // 410B §2 IDLE: "When transmitting own data IDLE is 0."
+        self.events.push(placed.start, Change::Idle(false));
+        self.events.push(placed.end, Change::Idle(true));
+        Some(placed.end)
+    }
+
+    /// Releases the output segments that start at or before `now` and moves them to `out`.
+    pub(crate) fn take_output(&mut self, now: Instant, out: &mut Vec<LineSegment>) {
+        self.tx.release(now);
+        self.tx.take_released(out);
+    }
+
+    /// When the next not yet released output segment starts.
+    pub(crate) fn next_output_at(&self) -> Option<Instant> {
+        self.tx.next_release_at()
+    }
+
+    /// Moves the received frames to the end of `out`.
+    pub(crate) fn take_rx_frames(&mut self, out: &mut Vec<RxFrame>) {
+        out.append(&mut self.rx_frames);
+    }
+
+    /// The instant of the next scheduled status change (including FIBBR's timeout).
+    pub(crate) fn next_event_at(&self) -> Option<Instant> {
+        let deadline = self.rx.fibbr_deadline;
+        match (self.events.next_at(), deadline) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// Applies the changes due at or before `t`, the earliest first; stops after one instant
+    /// and returns it with what changed, or `None` when nothing is due.
+    pub(crate) fn step(&mut self, t: Instant) -> Option<(Instant, Applied)> {
+        let at = self.next_event_at().filter(|a| *a <= t)?;
+        let mut applied = Applied {
+            fibbr_rose: false,
+            rdist_rose: false,
+        };
+        if self.rx.fibbr_deadline == Some(at) {
+            self.rx.deadline_fired();
+            applied.fibbr_rose |= !self.fibbr;
+            self.fibbr = true;
+        }
+        while let Some((_, change)) = self.events.pop_until(at) {
+            match change {
+                Change::Idle(l) => self.idle = l,
+                Change::Reactn(l) => self.reactn = l,
+                Change::Fibbr(v) => {
+                    applied.fibbr_rose |= v && !self.fibbr;
+                    self.fibbr = v;
+                }
+                Change::Rdist(v) => {
+                    applied.rdist_rose |= v && !self.rdist;
+                    self.rdist = v;
+                }
+            }
+        }
+        Some((at, applied))
+    }
+
+    /// Level at pin IDLE.
+    pub(crate) fn idle(&self) -> bool {
+        self.idle
+    }
+
+    /// Level at pin REACTN.
+    pub(crate) fn reactn(&self) -> bool {
+        self.reactn
+    }
+
+    /// 410B §4.1 2H.13 FIBBR.
+    pub(crate) fn fibbr(&self) -> bool {
+        self.fibbr
+    }
+
+    /// 410B §4.1 2H.12 RDIST.
+    pub(crate) fn rdist(&self) -> bool {
+        self.rdist
+    }
+
+    /// Level at pin L_ERRN (410B §2, active low; §4.1 2H.14–15 LMODE).
+    pub(crate) fn lerrn(&self) -> bool {
+        self.cfg.lmode.pin_level(self.rdist, self.fibbr)
+    }
+}

@@ -1,0 +1,323 @@
+//! The receiver: decodes the line input into telegrams, drives REACTN and watches the signal
+//! for FIBBR (no edges) and RDIST (distortion) (410B §2 RxD, REACTN, L_ERRN; §4.1 1H.7 POLRXD,
+//! 1H.12 RXDNRZ, 2H.12 RDIST, 2H.13 FIBBR).
+
+use sercos_wire::line::{Coding, Decoded, Decoder, LineConfig, LineError, Polarity};
+use sercos_wire::time::{Duration, Instant};
+
+use super::line_events::{Change, LineEvents};
+use super::port_config::PortConfig;
+use super::segment::{LineSegment, LineSignal};
+use super::{FIBBR_BIT_TIMES, RxFrame};
+use crate::serial_settings::RxdCoding;
+
+/// Line bits of a flag (the opening flag is complete 8 bits after its first bit).
+const FLAG_BITS: u64 = 8;
+
+/// A decoder that continues over contiguous bit segments.
+#[derive(Debug, Clone)]
+struct Running {
+    decoder: Decoder,
+    /// Instant of bit position 0.
+    base: Instant,
+    bit_time: Duration,
+    /// Where the next contiguous segment would start.
+    next_start: Instant,
+}
+
+/// The receiver's state.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Receiver {
+    /// The last segment received (the line's signal from its start on).
+    last: Option<LineSegment>,
+    running: Option<Running>,
+    /// FIBBR rises here unless an edge comes first.
+    pub(crate) fibbr_deadline: Option<Instant>,
+    /// FIBBR as it will be after every scheduled change.
+    fibbr_future: bool,
+    /// The last segment is filler: edges continue until the next segment.
+    open_filler: bool,
+    /// FIBBR timeout of the last configuration.
+    timeout: Duration,
+}
+
+/// Where decoded frames go.
+pub(crate) struct Sinks<'a> {
+    pub(crate) events: &'a mut LineEvents,
+    pub(crate) frames: &'a mut Vec<RxFrame>,
+}
+
+impl Receiver {
+    /// A receiver whose line has been dark since `at`.
+    pub(crate) fn new(at: Instant, timeout: Duration) -> Self {
+        Receiver {
+            fibbr_deadline: Some(at.saturating_add(timeout)),
+            timeout,
+            ..Receiver::default()
+        }
+    }
+
+    /// The bit time of the last segment received.
+    pub(crate) fn last_bit_time(&self) -> Option<Duration> {
+        self.last.as_ref().map(|s| s.bit_time)
+    }
+
+    /// The last segment received.
+    pub(crate) fn last_segment(&self) -> Option<&LineSegment> {
+        self.last.as_ref()
+    }
+
+    /// The FIBBR deadline has passed without an edge: FIBBR is now set.
+    pub(crate) fn deadline_fired(&mut self) {
+        self.fibbr_deadline = None;
+        self.fibbr_future = true;
+    }
+
+    /// An edge of the receive signal at `t`.
+    fn edge(&mut self, t: Instant, events: &mut LineEvents) {
+        if let Some(d) = self.fibbr_deadline
+            && d <= t
+            && !self.fibbr_future
+        {
+            // 410B §4.1 2H.13 FIBBR: "No edges on receive data".
+            events.push(d, Change::Fibbr(true));
+            self.fibbr_future = true;
+        }
+        if self.fibbr_future {
+            // 410B §4.1 2H.13: "Filler signal or data is received".
+            events.push(t, Change::Fibbr(false));
+            self.fibbr_future = false;
+        }
+        self.fibbr_deadline = Some(t.saturating_add(self.timeout));
+    }
+
+    /// Takes one segment of the line input (light levels) at or after the previous one.
+    pub(crate) fn input(&mut self, seg: &LineSegment, cfg: &PortConfig, sinks: Sinks<'_>) {
+        let Sinks { events, frames } = sinks;
+        let own_bt = cfg.bit_time.unwrap_or(seg.bit_time);
+        self.timeout = own_bt.saturating_mul(FIBBR_BIT_TIMES);
+        let prev_level = self.last.as_ref().is_some_and(|l| l.level_at(seg.start));
+        if let Some(end) = self.last.as_ref().and_then(LineSegment::end)
+            && end > seg.start
+        {
+            // A collision: the new segment cuts the previous one; what the receiver made of
+            // the cut part is void (frames already reported stay reported).
+            events.cancel_receive_from(seg.start);
+            self.running = None;
+            self.fibbr_future = events.last_fibbr().unwrap_or(self.fibbr_future);
+            events.push(seg.start, Change::Reactn(true));
+        }
+        if self.open_filler {
+            // The filler's last edge before this segment.
+            if let Some(last) = &self.last {
+                let bt = last.bit_time.as_picos().max(1);
+                let elapsed = seg.start.saturating_duration_since(last.start).as_picos();
+                let begun = elapsed.div_ceil(bt);
+                if begun > 0 {
+                    let t = last
+                        .start
+                        .saturating_add(Duration::from_picos((begun - 1).saturating_mul(bt)));
+                    self.fibbr_deadline = Some(t.saturating_add(self.timeout));
+                }
+            }
+            self.open_filler = false;
+        }
+        // A receiver whose bit clock differs from the sender's samples off the bit grid: the
+        // edges count, the data does not (spec-notes "Serial port": rate mismatch is RDIST).
+        let mismatch = cfg.bit_time.is_some_and(|bt| bt != seg.bit_time);
+        let distorted = seg.distorted || mismatch;
+        // 410B §4.1 2H.12 RDIST: "Receive data over distortion limit" while such a signal lasts.
+        events.push(seg.start, Change::Rdist(distorted));
+        match &seg.signal {
+            LineSignal::Dark | LineSignal::Light => {
+                let level = matches!(seg.signal, LineSignal::Light);
+                if level != prev_level {
+                    self.edge(seg.start, events);
+                }
+                self.running = None;
+            }
+            LineSignal::Filler => {
+                let first = if seg.level_before == prev_level {
+                    seg.start
+                } else {
+                    seg.start.saturating_add(seg.bit_time)
+                };
+                self.edge(first, events);
+                // Edges every bit time: no FIBBR while the filler lasts.
+                self.fibbr_deadline = None;
+                self.open_filler = true;
+                self.running = None;
+            }
+            LineSignal::Bits(_) => {
+                let end = seg.end().unwrap_or(seg.start);
+                if distorted {
+                    events.push(end, Change::Rdist(false));
+                }
+                let hinted = seg.hint.as_ref().filter(|_| {
+                    cfg.rx_coding == RxdCoding::Nrzi
+                        && !mismatch
+                        && seg.level_before == prev_level
+                        && self.running.as_ref().is_none_or(|r| !r.decoder.in_frame())
+                });
+                if let Some(hint) = hinted {
+                    // The hint's telegram: its flags start and end with a 0, an edge in NRZI,
+                    // and no valid NRZI signal goes FIBBR_BIT_TIMES without one.
+                    self.edge(seg.start, events);
+                    self.edge(end.saturating_sub_bits(seg.bit_time), events);
+                    let start = seg
+                        .start
+                        .saturating_add(seg.bit_time.saturating_mul(hint.offset));
+                    deliver(
+                        RxFrame {
+                            start,
+                            end,
+                            bytes: hint.telegram.to_vec(),
+                            fcs_ok: true,
+                        },
+                        seg.bit_time,
+                        events,
+                        frames,
+                    );
+                    self.running = None;
+                } else {
+                    self.scan_edges(seg, prev_level, events);
+                    if mismatch {
+                        self.running = None;
+                    } else {
+                        self.decode(seg, prev_level, cfg, events, frames);
+                    }
+                }
+            }
+        }
+        self.last = Some(seg.clone());
+    }
+
+    /// Reports the edges of an explicit bit segment.
+    fn scan_edges(&mut self, seg: &LineSegment, prev_level: bool, events: &mut LineEvents) {
+        let LineSignal::Bits(bits) = &seg.signal else {
+            return;
+        };
+        let mut level = prev_level;
+        let mut t = seg.start;
+        for b in bits.bits().iter() {
+            if b != level {
+                self.edge(t, events);
+                level = b;
+            }
+            t = t.saturating_add(seg.bit_time);
+        }
+    }
+
+    /// Decodes an explicit bit segment, continuing the previous one if it is contiguous.
+    fn decode(
+        &mut self,
+        seg: &LineSegment,
+        prev_level: bool,
+        cfg: &PortConfig,
+        events: &mut LineEvents,
+        frames: &mut Vec<RxFrame>,
+    ) {
+        let LineSignal::Bits(bits) = &seg.signal else {
+            return;
+        };
+        let contiguous = self
+            .running
+            .as_ref()
+            .is_some_and(|r| r.next_start == seg.start && r.bit_time == seg.bit_time);
+        if !contiguous {
+            self.running = Some(Running {
+                decoder: Decoder::new(rx_line_config(cfg.rx_coding, cfg.polrxd, prev_level)),
+                base: seg.start,
+                bit_time: seg.bit_time,
+                next_start: seg.start,
+            });
+        }
+        let Some(run) = self.running.as_mut() else {
+            return;
+        };
+        let (base, bt) = (run.base, run.bit_time);
+        let at = |pos: u64| base.saturating_add(bt.saturating_mul(pos));
+        let mut found = Vec::new();
+        run.decoder.push(bits.bits(), |d| {
+            let frame = match d {
+                Decoded::Telegram(f) => RxFrame {
+                    start: at(f.start),
+                    end: at(f.end),
+                    bytes: f.bytes.to_vec(),
+                    fcs_ok: true,
+                },
+                Decoded::Error { error, received } => RxFrame {
+                    start: at(error.start()),
+                    end: at(error_end(&error)),
+                    bytes: received.to_vec(),
+                    fcs_ok: false,
+                },
+            };
+            found.push(frame);
+        });
+        run.next_start = seg.end().unwrap_or(seg.start);
+        for f in found {
+            deliver(f, bt, events, frames);
+        }
+    }
+}
+
+/// The bit after the end of a frame in error (the closing flag, or the bit that broke it).
+fn error_end(error: &LineError) -> u64 {
+    match *error {
+        LineError::FcsMismatch { end, .. }
+        | LineError::TooShort { end, .. }
+        | LineError::NotWholeBytes { end, .. } => end,
+        LineError::Abort { at, .. } | LineError::TooLong { at, .. } => at.saturating_add(1),
+    }
+}
+
+/// Schedules REACTN for `frame` and hands it on.
+// 410B §2 REACTN: "Indicates that the serial receiver is receiving a telegram": low from the
+// recognised opening flag to the end of the frame (spec-notes "Serial port").
+fn deliver(frame: RxFrame, bit_time: Duration, events: &mut LineEvents, frames: &mut Vec<RxFrame>) {
+    let low = frame
+        .start
+        .saturating_add(bit_time.saturating_mul(FLAG_BITS))
+        .min(frame.end);
+    events.push(low, Change::Reactn(false));
+    events.push(frame.end, Change::Reactn(true));
+    frames.push(frame);
+}
+
+/// The decoder configuration for light-level input.
+///
+/// NRZ: the data bit is the chip's "light on", i.e. the light level when POLRXD = 0 and its
+/// inverse when POLRXD = 1 (the line interface carries light as a transceiver for POLRXD = 0
+/// delivers it). NRZI: only the level before the first bit matters, the line's `prev_level`.
+fn rx_line_config(coding: RxdCoding, polrxd: bool, prev_level: bool) -> LineConfig {
+    match coding {
+        RxdCoding::Nrz => LineConfig::new(
+            Coding::Nrz,
+            if polrxd {
+                Polarity::LightOnLow
+            } else {
+                Polarity::LightOnHigh
+            },
+        ),
+        RxdCoding::Nrzi => LineConfig::new(
+            Coding::Nrzi,
+            if prev_level {
+                Polarity::LightOnLow
+            } else {
+                Polarity::LightOnHigh
+            },
+        ),
+    }
+}
+
+/// `Instant` minus one bit time.
+trait SubBits {
+    fn saturating_sub_bits(self, bt: Duration) -> Instant;
+}
+
+impl SubBits for Instant {
+    fn saturating_sub_bits(self, bt: Duration) -> Instant {
+        Instant::from_picos(self.as_picos().saturating_sub(bt.as_picos()))
+    }
+}

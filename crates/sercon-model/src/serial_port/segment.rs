@@ -1,0 +1,221 @@
+//! The line interface: timed segments of light on the fibre (or levels on an RS-485 line).
+//!
+//! A ring simulation connects chips by handing the segments one chip sends
+//! ([`crate::Chip::take_line_output`]) to the next chip ([`crate::Chip::line_input`]), shifted
+//! by the fibre's delay and perhaps altered by a fault injector. It needs to know nothing of
+//! the chip's internals.
+//!
+//! Conventions (`docs/spec-notes.md`, "Serial port"):
+//!
+//! * A segment carries **light levels** (`true` = light on), as a transceiver that lights the
+//!   fibre when the pin is 0 (the reset meaning of POLTXD / POLRXD, 410B §4.1 1H.7, 1H.9) would
+//!   make them.
+//! * A segment lasts until the next segment of the same line starts. [`LineSignal::Bits`] holds
+//!   one level per bit time; after its last bit the line keeps that level until the next
+//!   segment. [`LineSignal::Filler`], [`LineSignal::Dark`] and [`LineSignal::Light`] are
+//!   open-ended and cost nothing per bit.
+//! * Segments of one line come in order of `start`. A segment that starts before the end of the
+//!   previous [`LineSignal::Bits`] segment cuts it there (a collision).
+
+use std::sync::Arc;
+
+use sercos_wire::line::{BitVec, Bits};
+use sercos_wire::time::{Duration, Instant};
+
+/// What the line carries during a segment.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum LineSignal {
+    /// Explicit light levels, one per bit time, the first bit at `start`.
+    Bits(Arc<BitVec>),
+    /// Idle filler: the light changes at the start of every bit time (NRZI-coded data 0s, the
+    /// square wave a master keeps on the fibre between telegrams; sercos-facts, Line and
+    /// framing). Also the test signal "zero bit stream" (410B §2 TM1, §4.1 2H TMODE = 5).
+    Filler,
+    /// No light (transmitter off or high impedance, broken fibre).
+    Dark,
+    /// Continuous light (test signal, 410B §2 TM0, §4.1 2H TMODE = 4 or 6).
+    Light,
+}
+
+/// What a [`LineSignal::Bits`] segment decodes to, so that a receiver need not decode the bits.
+///
+/// Valid while the bits are untouched and the line's level before the first bit equals
+/// [`LineSegment::level_before`]: then an NRZI receiver decodes exactly one telegram with a
+/// valid FCS, `telegram`, whose opening flag starts at bit `offset` and whose closing flag
+/// ends the segment.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FrameHint {
+    /// The telegram bytes (ADR and data, without FCS).
+    pub telegram: Arc<[u8]>,
+    /// The first bit of the opening flag, counted from the segment's first bit.
+    pub offset: u64,
+}
+
+/// A timed piece of the line signal.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LineSegment {
+    /// When the first bit time begins.
+    pub start: Instant,
+    /// The duration of one bit time of the sender.
+    pub bit_time: Duration,
+    /// What the line carries.
+    pub signal: LineSignal,
+    /// The light level the sender assumed before the first bit (NRZI needs it for the first
+    /// bit; the [`FrameHint`] assumes it).
+    pub level_before: bool,
+    /// The decoded content of [`LineSignal::Bits`], if known. A fault injector that changes the
+    /// bits must set it to `None`.
+    pub hint: Option<FrameHint>,
+    /// The signal is distorted beyond the receiver's limit (edges off the bit grid): set by a
+    /// fault injector; a receiver reports RDIST while it lasts (410B §4.1 2H.12).
+    #[doc(alias = "RDIST")]
+    pub distorted: bool,
+}
+
+impl LineSegment {
+    /// A steady segment (filler, dark or light) from `start` until the next segment.
+    pub fn steady(
+        start: Instant,
+        bit_time: Duration,
+        signal: LineSignal,
+        level_before: bool,
+    ) -> Self {
+        LineSegment {
+            start,
+            bit_time,
+            signal,
+            level_before,
+            hint: None,
+            distorted: false,
+        }
+    }
+
+    /// A segment of explicit light levels without hint.
+    pub fn bits(start: Instant, bit_time: Duration, bits: BitVec, level_before: bool) -> Self {
+        LineSegment {
+            start,
+            bit_time,
+            signal: LineSignal::Bits(Arc::new(bits)),
+            level_before,
+            hint: None,
+            distorted: false,
+        }
+    }
+
+    /// Number of bit times of a [`LineSignal::Bits`] segment; `None` for open-ended ones.
+    pub fn bit_len(&self) -> Option<u64> {
+        match &self.signal {
+            LineSignal::Bits(b) => Some(b.len()),
+            _ => None,
+        }
+    }
+
+    /// The end of the last bit of a [`LineSignal::Bits`] segment; `None` for open-ended ones.
+    pub fn end(&self) -> Option<Instant> {
+        self.bit_len()
+            .map(|n| self.start.saturating_add(self.bit_time.saturating_mul(n)))
+    }
+
+    /// The light level of the line at instant `t` ≥ `start` as far as this segment decides it
+    /// (the level of the bit time in progress at `t`; `level_before` at `start` itself).
+    pub fn level_at(&self, t: Instant) -> bool {
+        let elapsed = t.saturating_duration_since(self.start).as_picos();
+        let bt = self.bit_time.as_picos().max(1);
+        // Bit times begun before t: the bit in progress at t is the last of them.
+        let begun = elapsed.div_ceil(bt);
+        match &self.signal {
+            LineSignal::Dark => false,
+            LineSignal::Light => true,
+            // Every begun bit time toggles the level.
+            LineSignal::Filler => self.level_before ^ (begun & 1 == 1),
+            LineSignal::Bits(b) => {
+                if begun == 0 {
+                    return self.level_before;
+                }
+                let idx = usize::try_from(begun.min(b.len())).unwrap_or(usize::MAX);
+                match idx.checked_sub(1) {
+                    Some(i) => b.bits().get(i).unwrap_or(self.level_before),
+                    None => self.level_before,
+                }
+            }
+        }
+    }
+
+    /// The same segment `delay` later.
+    pub fn delayed(mut self, delay: Duration) -> Self {
+        self.start = self.start.saturating_add(delay);
+        self
+    }
+
+    /// The light inverted (a transceiver of the other polarity): bits are inverted, dark and
+    /// light swap, filler stays filler. NRZI decodes the same, so the hint stays valid.
+    pub fn inverted(mut self) -> Self {
+        self.level_before = !self.level_before;
+        self.signal = match self.signal {
+            LineSignal::Dark => LineSignal::Light,
+            LineSignal::Light => LineSignal::Dark,
+            LineSignal::Filler => LineSignal::Filler,
+            LineSignal::Bits(b) => LineSignal::Bits(Arc::new(invert_bits(b.bits()))),
+        };
+        self
+    }
+
+    /// The part of this segment from instant `t` on (`t` ≥ `start`): a steady segment starts
+    /// at `t`; a bits segment keeps the bit times that begin at or after `t` (none: `None`).
+    /// The hint is dropped unless nothing was cut.
+    pub fn from_instant(&self, t: Instant) -> Option<LineSegment> {
+        if t <= self.start {
+            return Some(self.clone());
+        }
+        let level_before = self.level_at(t);
+        match &self.signal {
+            LineSignal::Bits(b) => {
+                let elapsed = t.saturating_duration_since(self.start).as_picos();
+                let bt = self.bit_time.as_picos().max(1);
+                let skip = elapsed.div_ceil(bt);
+                if skip >= b.len() {
+                    return None;
+                }
+                let from = usize::try_from(skip).ok()?;
+                let to = usize::try_from(b.len()).ok()?;
+                let rest = b.bits().slice(from, to)?;
+                let mut out = BitVec::with_capacity(to - from);
+                extend(&mut out, rest);
+                Some(LineSegment {
+                    start: self
+                        .start
+                        .saturating_add(self.bit_time.saturating_mul(skip)),
+                    bit_time: self.bit_time,
+                    signal: LineSignal::Bits(Arc::new(out)),
+                    level_before,
+                    hint: None,
+                    distorted: self.distorted,
+                })
+            }
+            other => Some(LineSegment {
+                start: t,
+                bit_time: self.bit_time,
+                signal: other.clone(),
+                level_before,
+                hint: None,
+                distorted: self.distorted,
+            }),
+        }
+    }
+}
+
+/// Appends the bits of `bits` to `out`.
+fn extend(out: &mut BitVec, bits: Bits<'_>) {
+    for b in bits.iter() {
+        out.push(b);
+    }
+}
+
+/// The bits of `bits`, inverted.
+fn invert_bits(bits: Bits<'_>) -> BitVec {
+    let mut out = BitVec::with_capacity(bits.len());
+    for b in bits.iter() {
+        out.push(!b);
+    }
+    out
+}

@@ -1,0 +1,173 @@
+//! The transmitter: own telegrams, idle filler, test signals and the repeater's forwarded
+//! signal, merged into one output line (410B §1, §2 TxD1–6, IDLE, TM0/TM1; §4.1 1H, 2H).
+//!
+//! Two timelines are kept: the own telegrams, and the *background* (what goes out when no own
+//! telegram does: filler, a test signal, darkness or the forwarded received signal). Both are
+//! merged when the chip's time passes a segment's start ([`Transmitter::release`]), so a
+//! forwarded segment that an own telegram overlaps is cut (410B §1: "The slaves regenerate and
+//! repeat their received data or send their own telegrams").
+
+use std::collections::VecDeque;
+use std::sync::Arc;
+
+use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity};
+use sercos_wire::time::{Duration, Instant};
+
+use super::segment::{FrameHint, LineSegment, LineSignal};
+
+use super::PRESYNC_BITS;
+/// An own telegram placed on the transmitter's timeline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Placed {
+    /// When the first bit (of the sync word, or of the opening flag) starts.
+    pub(crate) start: Instant,
+    /// When the last bit of the closing flag has left.
+    pub(crate) end: Instant,
+}
+
+/// The transmitter's timelines.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Transmitter {
+    /// Own telegrams not yet released, by start.
+    own: VecDeque<LineSegment>,
+    /// Background segments not yet released, by start.
+    background: VecDeque<LineSegment>,
+    /// The background segment in effect (the last one whose start has passed).
+    bg_active: Option<LineSegment>,
+    /// The own telegram released last ends here; until then the background is shadowed.
+    own_until: Instant,
+    /// After an own telegram, the background is resumed at this instant.
+    resume_at: Option<Instant>,
+    /// The output segment released last.
+    last_out: Option<LineSegment>,
+    /// Released segments the simulation has not taken yet.
+    released: Vec<LineSegment>,
+    /// End of the last own telegram queued.
+    busy_until: Instant,
+}
+
+/// An NRZI encoder whose line is at light level `level` before its first bit.
+///
+/// NRZI only depends on the polarity for the level before the first bit (a dark line), so the
+/// polarity whose dark level is `level` gives an encoder that continues a line at `level`.
+fn nrzi_encoder_at(level: bool) -> Encoder {
+    let polarity = if level {
+        Polarity::LightOnLow
+    } else {
+        Polarity::LightOnHigh
+    };
+    Encoder::new(LineConfig::new(Coding::Nrzi, polarity))
+}
+
+impl Transmitter {
+    /// Queues an own telegram (ADR and data) at `at`, or right after the own telegram being
+    /// sent if that ends later; `None` when the telegram cannot be encoded (empty or longer
+    /// than the line layer allows).
+    pub(crate) fn transmit(
+        &mut self,
+        at: Instant,
+        bit_time: Duration,
+        presync: bool,
+        telegram: &[u8],
+    ) -> Option<Placed> {
+        let start = at.max(self.busy_until);
+        // The level before the first bit is fixed at release (the segment is inverted if the
+        // line turns out to be at the other level): NRZI decodes an inverted signal the same.
+        let mut enc = nrzi_encoder_at(false);
+        let mut bits = BitVec::new();
+        if presync {
+            // 410B §4.1 1H.8 PRESYNC: "Pre-frame sync word" before the frame.
+            enc.idle(PRESYNC_BITS, &mut bits).ok()?;
+        }
+        let offset = bits.len();
+        enc.encode(telegram, &mut bits).ok()?;
+        let len = bits.len();
+        let end = start.saturating_add(bit_time.saturating_mul(len));
+        self.own.push_back(LineSegment {
+            start,
+            bit_time,
+            signal: LineSignal::Bits(Arc::new(bits)),
+            level_before: false,
+            hint: Some(FrameHint {
+                telegram: Arc::from(telegram),
+                offset,
+            }),
+            distorted: false,
+        });
+        self.busy_until = end;
+        Some(Placed { start, end })
+    }
+
+    /// Puts `seg` on the background timeline; background segments queued to start after it
+    /// are dropped (it replaces them).
+    pub(crate) fn push_background(&mut self, seg: LineSegment) {
+        while self.background.back().is_some_and(|b| b.start >= seg.start) {
+            self.background.pop_back();
+        }
+        self.background.push_back(seg);
+    }
+
+    /// The light level of the output line at `t` (at or after the last release).
+    pub(crate) fn level_at(&self, t: Instant) -> bool {
+        self.last_out.as_ref().is_some_and(|s| s.level_at(t))
+    }
+
+    /// The instant the next output segment starts, if one is queued.
+    pub(crate) fn next_release_at(&self) -> Option<Instant> {
+        [
+            self.own.front().map(|s| s.start),
+            self.background.front().map(|s| s.start),
+            self.resume_at,
+        ]
+        .into_iter()
+        .flatten()
+        .min()
+    }
+
+    /// Releases every output segment that starts at or before `now`.
+    pub(crate) fn release(&mut self, now: Instant) {
+        while let Some(t) = self.next_release_at().filter(|t| *t <= now) {
+            if self.own.front().is_some_and(|s| s.start == t) {
+                let Some(mut seg) = self.own.pop_front() else {
+                    break;
+                };
+                // The NRZI coder continues from the level the line is at.
+                if seg.level_before != self.level_at(t) {
+                    seg = seg.inverted();
+                }
+                self.own_until = seg.end().unwrap_or(t);
+                self.resume_at = Some(self.own_until);
+                self.emit(seg);
+            } else if self.background.front().is_some_and(|s| s.start == t) {
+                let Some(seg) = self.background.pop_front() else {
+                    break;
+                };
+                self.bg_active = Some(seg.clone());
+                if t >= self.own_until {
+                    self.resume_at = None;
+                    self.emit(seg);
+                }
+            } else {
+                self.resume_at = None;
+                let rest = self.bg_active.as_ref().and_then(|bg| bg.from_instant(t));
+                if let Some(mut rest) = rest {
+                    if !matches!(rest.signal, LineSignal::Bits(_)) {
+                        // A steady signal starts afresh from the level the own telegram left.
+                        rest.level_before = self.level_at(t);
+                    }
+                    self.emit(rest);
+                }
+            }
+        }
+    }
+
+    fn emit(&mut self, seg: LineSegment) {
+        self.released.push(seg.clone());
+        self.last_out = Some(seg);
+    }
+
+    /// Moves the released segments to the end of `out`.
+    pub(crate) fn take_released(&mut self, out: &mut Vec<LineSegment>) {
+        out.append(&mut self.released);
+    }
+}
