@@ -400,3 +400,19 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn largest_master_rings_with_the_captures_telegram_type() {
+    // Per drive 18 words (AT header 5, AT container 2 + 6, MDT container 1 + 4); fixed part
+    // 11 + 8 × 37 + 18 + 4 + 2 = 331. 410B: 331 + 18 × 38 = 1015 ≤ 1024 < 1033 (39 drives);
+    // 816: 331 + 18 × 95 = 2041 ≤ 2048 < 2059 (96 drives).
+    for (variant, most) in [(Variant::Sercon410b, 38u8), (Variant::Sercon816, 95)] {
+        let fits = plan(BitRate::Mbit4, 20_000, most, 8, 4);
+        assert!(master(variant, &fits).is_ok(), "{variant:?} {most}");
+        let too_many = plan(BitRate::Mbit4, 20_000, most + 1, 8, 4);
+        assert!(matches!(
+            master(variant, &too_many),
+            Err(RamLayoutError::DoesNotFit { .. })
+        ));
+    }
+}
