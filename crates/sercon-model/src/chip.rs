@@ -26,6 +26,8 @@ pub struct Chip {
     pub(crate) in_reset: bool,
     /// Level at input CYC_CLK (410B §4.1 0CH.7).
     pub(crate) cyc_clk: bool,
+    /// The telegram processor and MST handling (410B §4.2).
+    pub(crate) tp: crate::telegram_processor::TelegramProcessor,
     /// The serial port: transmitter, receiver, repeater (410B §1, §2).
     pub(crate) serial: crate::serial_port::SerialPort,
 }
@@ -58,6 +60,7 @@ impl Chip {
             events: Vec::new(),
             in_reset: false,
             cyc_clk: false,
+            tp: Default::default(),
             serial,
         }
     }
@@ -87,23 +90,41 @@ impl Chip {
         if !self.in_reset {
             let limit = self.clock.tick_at_or_before(t);
             loop {
+                // The timing control goes first at equal ticks: a cycle start sends the
+                // MST before the telegram processor's events of that tick.
+                let engine_tick = self.engine.next_tick().filter(|k| *k <= limit);
+                let tp_tick = crate::telegram_processor::next_tick(self).filter(|k| *k <= limit);
                 // The serial port's changes (exact instants) go before MCLK ticks at or
                 // after them.
-                let engine_tick = self.engine.next_tick().filter(|k| *k <= limit);
                 let serial_tick = self
                     .serial_next_event()
                     .filter(|a| *a <= t)
                     .map(|a| self.clock.tick_at_or_after(a));
-                if serial_tick.is_some_and(|s| engine_tick.is_none_or(|e| s <= e)) {
+                if serial_tick.is_some_and(|s| engine_tick.is_none_or(|e| s <= e))
+                    && serial_tick.is_some_and(|s| tp_tick.is_none_or(|k| s <= k))
+                {
                     self.serial_step(t);
                     continue;
                 }
-                let Some(step) = self.engine.step(limit) else {
-                    break;
-                };
-                if step.changed != 0 {
-                    let at = self.clock.instant(step.tick);
-                    self.emit(step.changed, at);
+                match (engine_tick, tp_tick) {
+                    (Some(e), tp) if tp.is_none_or(|k| e <= k) => {
+                        let Some(step) = self.engine.step(limit) else {
+                            break;
+                        };
+                        let at = self.clock.instant(step.tick);
+                        if step.changed != 0 {
+                            self.emit(step.changed, at);
+                        }
+                        if step.cycle_started {
+                            crate::telegram_processor::on_cycle_start(self, step.tick);
+                            self.settle_tick(step.tick);
+                        }
+                    }
+                    (_, Some(k)) => {
+                        crate::telegram_processor::step(self, k);
+                        self.settle_tick(k);
+                    }
+                    _ => break,
                 }
             }
         }
@@ -144,8 +165,9 @@ impl Chip {
     pub fn pin_level(&self, pin: Pin) -> bool {
         match DRIVEN.iter().position(|p| *p == pin) {
             Some(i) => self.engine.levels.get(i).copied().unwrap_or(false),
-            // 410B §2: DMAREQR/T active high.
-            None if matches!(pin, Pin::DmaReqR | Pin::DmaReqT) => false,
+            // 410B §2 DMAREQR/DMAREQT, active high (static mode, 1H.14 DMAMODE = 0).
+            None if pin == Pin::DmaReqR => self.tp.fifo.dmareqr(),
+            None if pin == Pin::DmaReqT => self.tp.fifo.dmareqt(),
             // 410B §2: IDLE, REACTN, L_ERRN (active low), driven by the serial port.
             None => self.serial_pin_level(pin).unwrap_or(true),
         }
@@ -162,6 +184,15 @@ impl Chip {
                     level,
                 });
             }
+        }
+    }
+
+    /// Emits the pin changes a state change at MCLK tick `tick` caused.
+    fn settle_tick(&mut self, tick: u64) {
+        let changed = self.engine.update_levels();
+        if changed != 0 {
+            let at = self.clock.instant(tick);
+            self.emit(changed, at);
         }
     }
 

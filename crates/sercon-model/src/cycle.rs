@@ -215,7 +215,12 @@ impl Engine {
     pub(crate) fn start_cycle(&mut self, at: u64, fresh: bool) {
         // 410B §4.1 0CH.2: the master sends PHAS0, so block COMBLK0 is processed
         // (spec-notes "block selection"); the slave's choice by PHAS1 comes with MSTs.
-        let block = u8::from(self.s.comblk0);
+        self.start_cycle_block(at, fresh, u8::from(self.s.comblk0));
+    }
+
+    /// Starts a communication cycle processing transmission block `block` (0 or 1).
+    pub(crate) fn start_cycle_block(&mut self, at: u64, fresh: bool, block: u8) {
+        let block = block & 1;
         let tcntst = self.s.tcntst;
         let len = next_match(self.tscyc(block), tcntst, 0);
         self.ensure_plan(tcntst, len);
@@ -266,13 +271,16 @@ impl Engine {
 
     /// Ends the running cycle at tick `at`; `natural` when TCNT reached TSCYC (the next
     /// cycle then follows at once if NCYC allows), not when a new trigger cut it short.
-    fn end_cycle(&mut self, at: u64, natural: bool) {
+    pub(crate) fn end_cycle(&mut self, at: u64, natural: bool) {
         let Some(run) = self.cycle.run.take() else {
             return;
         };
-        // spec-notes "INT_COMEND": the block ends with its cycle until the telegram
-        // processor ends it at TEND.
-        self.flags.lo |= INT_COMEND;
+        // spec-notes "INT_COMEND": the block ends with its cycle unless the telegram
+        // processor runs (MSTEN or ENTMT), which ends it at the end marker.
+        let entmt = self.regs.stored(sercon_regs::Register::Ctrl3) & (1 << 8) != 0;
+        if !(self.s.msten || entmt) {
+            self.flags.lo |= INT_COMEND;
+        }
         self.outputs.divclk_until = None;
         self.cycle.tcnt_hold = (u64::from(run.tcntst) + self.e_at(&run, at)) as u16;
         if natural {
@@ -286,5 +294,21 @@ impl Engine {
                 self.start_cycle(at, false);
             }
         }
+    }
+}
+
+impl Engine {
+    /// A slave's cycle restarts at tick `at`, the end of a received MST, with block
+    /// `block`; it runs one cycle (TSCYC) unless the next MST comes first.
+    // 410B §4.2.1 TRT "after end of MST": the MST synchronises the slave (spec-notes
+    // "slave cycle").
+    pub(crate) fn sync_cycle(&mut self, at: u64, block: u8) {
+        self.cycle.pending = None;
+        if self.cycle.run.is_some() {
+            self.end_cycle(at, false);
+        }
+        self.start_cycle_block(at, true, block);
+        self.cycle.continuous = false;
+        self.cycle.cycles_left = 1;
     }
 }

@@ -26,9 +26,13 @@ pub(crate) fn next_deadline(chip: &Chip) -> Option<Instant> {
         // 816 §2.7: a pulse every NDIVCLK cycles.
         budget += u32::from(s.ndivclk);
     }
+    // The telegram processor's next event (a telegram, a window, an MST deadline) and,
+    // while it runs, every cycle start (a master sends its MST there) are observable.
+    let tp_tick = crate::telegram_processor::next_tick(chip);
+    let tp_cycles = crate::telegram_processor::tp_enabled(chip) && s.sends_mst();
     let mut starts = 0u32;
-    while let Some(step) = probe.step(u64::MAX) {
-        if step.changed & mask != 0 || step.expired {
+    while let Some(step) = probe.step(tp_tick.unwrap_or(u64::MAX)) {
+        if step.changed & mask != 0 || step.expired || (step.cycle_started && tp_cycles) {
             return Some(chip.clock.instant(step.tick));
         }
         if step.cycle_started {
@@ -44,5 +48,9 @@ pub(crate) fn next_deadline(chip: &Chip) -> Option<Instant> {
         && probe.cycle.continuous
         && probe.s.sends_mst()
         && probe.s.wdog_msten;
+    if let Some(k) = tp_tick {
+        // Nothing observable before the telegram processor's event (or the horizon).
+        return Some(chip.clock.instant(k));
+    }
     (probe.wd.running && !retriggered).then(|| chip.clock.instant(probe.wd.expiry))
 }

@@ -10,6 +10,8 @@ use crate::settings::Settings;
 pub(crate) fn read(chip: &mut Chip, address: u8) -> u16 {
     let address = address & sercon_regs::register::REGISTER_ADDRESS_MASK;
     let status = match Register::from_address(address) {
+        // 410B §4.1 27H RFIFO: a read takes the oldest word of the receive FIFO.
+        Some(Register::Fifo) => chip.tp.fifo.read(),
         Some(register) => status_bits(chip, register),
         None => 0,
     };
@@ -38,13 +40,27 @@ fn status_bits(chip: &Chip, register: Register) -> u16 {
         }
         Register::Ctrl3 => {
             let run = e.cycle.run.as_ref();
-            // 410B §4.1 3H.0 INTFL0, 3H.3 INTFL1, 3H.6 COMACT, 3H.7 COMBLK; 3H.14 IDLE
-            // and 3H.15 REACTN read their inactive (high) pin levels until the serial
-            // interface drives them.
+            // 410B §4.1 3H.6 COMACT / 3H.7 COMBLK: the transmission block the telegram
+            // processor works on while it runs, else the timing control's cycle.
+            let (comact, comblk) = if crate::telegram_processor::tp_enabled(chip) {
+                let b = crate::telegram_processor::comact(chip);
+                (b.is_some(), b == Some(1))
+            } else {
+                (run.is_some(), run.is_some_and(|r| r.block == 1))
+            };
+            let tp = &chip.tp;
+            // 410B §4.1 3H.0 INTFL0, 3H.3 INTFL1, 3H.9 FLTMT, 3H.10 FLRWAIT, 3H.11 FLREC,
+            // 3H.12 DMAREQT, 3H.13 DMAREQR; 3H.14 IDLE and 3H.15 REACTN read their
+            // inactive (high) pin levels until the serial interface drives them.
             bit(e.flags.request(&e.s, 0), 0)
                 | bit(e.flags.request(&e.s, 1), 3)
-                | bit(run.is_some(), 6)
-                | bit(run.is_some_and(|r| r.block == 1), 7)
+                | bit(comact, 6)
+                | bit(comblk, 7)
+                | bit(tp.tx_end.is_some(), 9)
+                | bit(tp.flrwait, 10)
+                | bit(tp.flrec, 11)
+                | bit(tp.fifo.dmareqt(), 12)
+                | bit(tp.fifo.dmareqr(), 13)
                 | bit(chip.serial_status().2, 14)
                 | bit(chip.serial_status().3, 15)
         }
@@ -55,6 +71,17 @@ fn status_bits(chip: &Chip, register: Register) -> u16 {
         Register::Ctrl0C => bit(e.outputs.conclk_level(&e.s), 4) | bit(chip.cyc_clk, 7),
         // 410B §4.1 12H TCNTLT.
         Register::Tcntlt => e.tcntlt,
+        // 410B §4.1 0BH PHASREC 7-0, RECADR 15-8.
+        Register::PhasRec => u16::from(chip.tp.phasrec) | u16::from(chip.tp.recadr) << 8,
+        // 410B §4.1 11H TCYCDEL, 17H PROGERR_FL, 21H–26H header registers.
+        Register::Tcycdel => chip.tp.tcycdel,
+        Register::ProgerrFl => chip.tp.progerr,
+        Register::Thtpt => chip.tp.thtpt,
+        Register::Tht => chip.tp.tht,
+        Register::Thwpt => chip.tp.thwpt,
+        Register::Thw => chip.tp.thw,
+        Register::Thrpt => chip.tp.thrpt & 0x03FF,
+        Register::Thr => chip.tp.thr,
         // 816 §2.11.2 28H.0 WDOG_STAT, 28H.1 INT_WDOG, 28H.2 WDOUT_STAT, 28H.6 INT_RSCEND.
         Register::WdogCtrl => {
             bit(e.wd.running, 0)
@@ -91,6 +118,12 @@ pub(crate) fn write(chip: &mut Chip, address: u8, value: u16) {
         // ERRATA "410B 4H/5H": writing 1 clears a flag, 0 leaves it.
         Register::IntFlagsLo => e.flags.lo &= !req.clear,
         Register::IntFlagsHi => e.flags.hi &= !req.clear,
+        // 410B §4.1 17H CLR_PROGERR_FL: writing 1 clears a flag.
+        Register::ProgerrFl => chip.tp.progerr &= !req.clear,
+        // 410B §4.1 27H TFIFO: a write appends to the transmit FIFO.
+        Register::Fifo => {
+            chip.tp.fifo.write(value);
+        }
         Register::Ctrl1 if req.actions & (1 << 1) != 0 => {
             // 410B §4.1 1H.1 SWRST: "Reset by software".
             crate::reset::software_reset(chip);

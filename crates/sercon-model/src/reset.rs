@@ -15,6 +15,10 @@ pub(crate) fn reset_state(chip: &mut Chip, at: u64) {
     // 816 §2.6.2: "Reset of these control bits through hardware, respectively software
     // reset has higher priority than reset through INT_WDOG": the reset values win.
     chip.engine = Engine::after_reset(chip.cfg.variant, &chip.cfg.straps, at);
+    // The telegram processor stops; frames already on their way are still delivered.
+    let queued = std::mem::take(&mut chip.tp.rx_queue);
+    chip.tp = Default::default();
+    chip.tp.rx_queue = queued;
     // The serial port keeps its line; it follows the reset values of 1H and 2H.
     chip.serial_registers_changed();
 }

@@ -1,0 +1,47 @@
+//! The DMA FIFOs RFIFO and TFIFO at 27H and their requests DMAREQR / DMAREQT
+//! (410B §2 DMAREQR, DMAREQT, DMAACKRN, DMAACKTN; §4.1 1H.14 DMAMODE, 3H.12-13, 27H).
+
+use std::collections::VecDeque;
+
+/// Both DMA FIFOs.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct DmaFifos {
+    /// Received words of DMA containers (DMA = 1), read by the host at 27H.
+    pub(crate) rx: VecDeque<u16>,
+    /// Words written by the host at 27H for the next DMA transmit telegram.
+    pub(crate) tx: VecDeque<u16>,
+    /// Words the current DMA transmit telegram needs (0 when none is pending).
+    pub(crate) tx_want: usize,
+}
+
+impl DmaFifos {
+    /// 410B §2 DMAREQR: "becomes active if data from the receive FIFO can be read. At the
+    /// beginning of the read operation of the last word of the receive FIFO, DMAREQR
+    /// becomes inactive."
+    pub(crate) fn dmareqr(&self) -> bool {
+        !self.rx.is_empty()
+    }
+
+    /// 410B §2 DMAREQT: "becomes active when data can be written to the transmit FIFO.
+    /// DMAREQT becomes inactive again at the beginning of the last write access".
+    pub(crate) fn dmareqt(&self) -> bool {
+        self.tx.len() < self.tx_want
+    }
+
+    /// A read of RFIFO (27H, or DMAACKRN = 0): the oldest word, 0 when empty.
+    pub(crate) fn read(&mut self) -> u16 {
+        self.rx.pop_front().unwrap_or(0)
+    }
+
+    /// A write of TFIFO (27H, or DMAACKTN = 0). Words beyond what the pending telegram
+    /// needs are dropped (the FIFO only takes data while DMAREQT asks for it), so a
+    /// runaway writer cannot grow the model without bound.
+    pub(crate) fn write(&mut self, value: u16) -> bool {
+        if self.dmareqt() {
+            self.tx.push_back(value);
+            true
+        } else {
+            false
+        }
+    }
+}

@@ -1,0 +1,525 @@
+//! The telegram processor (410B §1, §4.2.1–§4.2.3): at each communication cycle it works
+//! through the transmission block COMPT0/1 chosen by the phase, header by header along PT
+//! to the end marker, sending transmit telegrams TRT µs after the end of the MST and
+//! expecting receive telegrams, storing their data by POS/LEN.
+//!
+//! Everything is scheduled per telegram on MCLK ticks: a header becomes current, its
+//! start (transmit) or its window (receive) is an event, the frame's end is an event.
+//! Frames from the line arrive ahead of time ([`RxTelegram`]) and are queued until their
+//! start. Every walk over the RAM is bounded, so no RAM contents can hang or panic the
+//! model; what is wrong is reported in PROGERR_FL (410B §4.1 17H) with INT_PROGERR.
+//!
+//! Readings where the documents are silent: `docs/spec-notes.md`, "Telegram processor
+//! and MST".
+
+mod fifo;
+mod host;
+mod line_out;
+mod receive;
+pub(crate) mod status;
+mod transmit;
+mod walk;
+
+use std::collections::VecDeque;
+
+use sercon_regs::Register;
+use sercon_regs::ram::header::{Header, RxHeader, TxHeader};
+use sercos_wire::time::Instant;
+
+use crate::chip::Chip;
+use crate::interrupts::INT_COMEND;
+use fifo::DmaFifos;
+use status::{INT_PROGERR, INT_RWAIT, ProgErr};
+
+/// A telegram on the line: ADR and data bytes (FCS and flags not included) with the
+/// instants its frame starts (first bit of the opening flag) and ends (after the closing
+/// flag).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LineTelegram {
+    /// First bit of the opening flag.
+    pub start: Instant,
+    /// After the last bit of the closing flag.
+    pub end: Instant,
+    /// ADR followed by the data bytes (16-bit words low byte first), without FCS.
+    pub bytes: Vec<u8>,
+}
+
+/// A telegram the receiver saw, known as soon as its line segment was handed to the chip.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RxTelegram {
+    /// First bit of the opening flag.
+    pub start: Instant,
+    /// After the closing flag.
+    pub end: Instant,
+    /// ADR + data, FCS stripped.
+    pub bytes: Vec<u8>,
+    /// `false` for any line error (FCS, stuffing, abort).
+    pub fcs_ok: bool,
+}
+
+/// The line side's name for a received frame (contract with `serial_port`).
+pub(crate) type RxFrame = RxTelegram;
+
+/// What the processor does with the header that is current.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Cur {
+    /// A transmit telegram due at tick `start` (header read into NTH at `read`).
+    Tx { at: u16, hdr: TxHeader, start: u64 },
+    /// A receive telegram expected from tick `open`; with TCHK it must start by `close`.
+    Rx {
+        at: u16,
+        hdr: RxHeader,
+        open: u64,
+        close: Option<u64>,
+        announced: bool,
+    },
+    /// The end marker, reached at `ready`; the block ends when the last telegram has.
+    End { at: u16, ready: u64 },
+}
+
+/// A transmission block being processed (410B §4.1 3H.6 COMACT = 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Block {
+    /// 0 or 1 (3H.7 COMBLK).
+    pub(crate) block: u8,
+    /// The end of the MST: the tick TRT counts from.
+    pub(crate) ref_tick: u64,
+    /// The current header; `None` before the first is read.
+    pub(crate) cur: Option<Cur>,
+    /// Headers walked so far (bounded).
+    pub(crate) steps: u32,
+    /// Tick at which the last telegram of the block ended.
+    pub(crate) last_end: u64,
+}
+
+/// What a frame being received is to the processor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum RxRole {
+    /// Not for us (not expected, wrong address or outside the window).
+    Ignored,
+    /// An MST (ADR 255 and one data byte).
+    Mst,
+    /// The expected telegram of the receive header at `at`.
+    Telegram { at: u16, hdr: RxHeader },
+}
+
+/// A frame whose start has passed.
+#[derive(Debug, Clone)]
+pub(crate) struct RxNow {
+    pub(crate) frame: RxFrame,
+    pub(crate) end_tick: u64,
+    pub(crate) role: RxRole,
+}
+
+/// MST bookkeeping (slave reception, master ring delay).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct MstState {
+    /// Tick of the end of the last good MST (slave).
+    pub(crate) last_end: Option<u64>,
+    /// Tick by which the next MST must have been received (slave).
+    pub(crate) deadline: Option<u64>,
+    /// The previous expected MST was missing.
+    pub(crate) missed_prev: bool,
+    /// A miss was counted since the last good MST (its late arrival is not checked again).
+    pub(crate) missed_since: bool,
+}
+
+/// The telegram processor's state. Owned by [`Chip`]; reset with the chip.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct TelegramProcessor {
+    pub(crate) block: Option<Block>,
+    /// A block starting at the given tick (the end of the MST) with the given number.
+    pub(crate) pending_block: Option<(u64, u8)>,
+    /// Frames delivered ahead of time, ordered by start.
+    pub(crate) rx_queue: VecDeque<RxFrame>,
+    pub(crate) rx_now: Option<RxNow>,
+    /// End of the telegram being sent (3H.9 FLTMT while `Some`).
+    pub(crate) tx_end: Option<u64>,
+    /// The transmitter is busy until this tick.
+    pub(crate) tx_busy_until: u64,
+    /// 410B §4.1 3H.10 FLRWAIT.
+    pub(crate) flrwait: bool,
+    /// 410B §4.1 3H.11 FLREC.
+    pub(crate) flrec: bool,
+    /// 410B §4.1 21H THTPT, 22H THT, 23H THWPT, 24H THW, 25H THRPT, 26H THR.
+    pub(crate) thtpt: u16,
+    pub(crate) tht: u16,
+    pub(crate) thwpt: u16,
+    pub(crate) thw: u16,
+    pub(crate) thrpt: u16,
+    pub(crate) thr: u16,
+    /// 410B §4.1 0BH PHASREC (7-0) and RECADR (15-8).
+    pub(crate) phasrec: u8,
+    pub(crate) recadr: u8,
+    /// 410B §4.1 11H TCYCDEL.
+    pub(crate) tcycdel: u16,
+    /// 410B §4.1 17H PROGERR_FL.
+    pub(crate) progerr: u16,
+    pub(crate) fifo: DmaFifos,
+    pub(crate) mst: MstState,
+    /// Telegram bytes being assembled (reused: no allocation per telegram).
+    pub(crate) txbuf: Vec<u8>,
+    /// One data record for the service containers (reused).
+    pub(crate) record: Vec<u16>,
+    /// The containers of one telegram (reused).
+    pub(crate) containers: Vec<walk::Container>,
+    /// Telegrams sent, until the line side collects them.
+    pub(crate) sent: Vec<LineTelegram>,
+}
+
+/// Most headers one block may walk: every header has at least two words.
+fn max_steps(chip: &Chip) -> u32 {
+    u32::from(chip.cfg.variant.ram_words()) / 2 + 1
+}
+
+/// 410B §4.1 3H.8 ENTMT.
+pub(crate) fn entmt(chip: &Chip) -> bool {
+    chip.engine.regs.stored(Register::Ctrl3) & (1 << 8) != 0
+}
+
+/// Whether the telegram processor works through transmission blocks: SERCOS interface
+/// mode (MSTEN) or data telegrams enabled (ENTMT). Reading (spec-notes "when the
+/// telegram processor runs"): a chip fresh out of reset (both 0) leaves its RAM, which
+/// has no reset value, alone.
+pub(crate) fn tp_enabled(chip: &Chip) -> bool {
+    chip.engine.s.msten || entmt(chip)
+}
+
+/// The bits of 25H the chip reads: (MSTTCHK, PHAS12, FLMDTADR).
+pub(crate) fn reg25(chip: &Chip) -> (bool, bool, bool) {
+    let w = chip.engine.regs.stored(Register::Thrpt);
+    (w & (1 << 10) != 0, w & (1 << 11) != 0, w & (1 << 12) != 0)
+}
+
+/// Sets or clears FLMDTADR (25H.12), which the chip sets and clears itself (816 §2.9.2).
+pub(crate) fn set_flmdtadr(chip: &mut Chip, value: bool) {
+    let w = chip.engine.regs.stored(Register::Thrpt);
+    let w = (w & !(1 << 12)) | (u16::from(value) << 12);
+    chip.engine.regs.set_stored(Register::Thrpt, w);
+}
+
+/// Records a programming error (410B §4.1 17H PROGERR_FL, 5H.14 INT_PROGERR).
+pub(crate) fn prog_error(chip: &mut Chip, e: ProgErr) {
+    chip.tp.progerr |= e.bit();
+    chip.engine.flags.hi |= INT_PROGERR;
+}
+
+impl TelegramProcessor {
+    /// The next tick at which the processor has something to do.
+    pub(crate) fn next_tick(&self) -> Option<u64> {
+        let mut best: Option<u64> = None;
+        let mut consider = |t: Option<u64>| {
+            if let Some(t) = t {
+                best = Some(best.map_or(t, |b| b.min(t)));
+            }
+        };
+        consider(self.tx_end);
+        consider(self.rx_now.as_ref().map(|r| r.end_tick));
+        consider(self.pending_block.map(|(t, _)| t));
+        consider(self.mst.deadline);
+        if let Some(b) = &self.block {
+            consider(match b.cur {
+                Some(Cur::Tx { start, .. }) => Some(start),
+                Some(Cur::Rx {
+                    open,
+                    close,
+                    announced,
+                    ..
+                }) => {
+                    if announced {
+                        close
+                    } else {
+                        Some(open)
+                    }
+                }
+                Some(Cur::End { ready, .. }) => Some(ready),
+                None => None,
+            });
+        }
+        best
+    }
+
+    /// The next tick, given the start tick of the first queued frame (computed by the
+    /// chip, which knows the clock).
+    pub(crate) fn next_tick_with(&self, first_frame: Option<u64>) -> Option<u64> {
+        match (self.next_tick(), first_frame) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// Queues a frame the receiver saw (contract with `serial_port`): processed at its
+    /// start and end.
+    pub(crate) fn on_rx_frame(&mut self, frame: RxFrame) {
+        // Keep the queue ordered by start; frames normally arrive in order.
+        let idx = self.rx_queue.partition_point(|f| f.start <= frame.start);
+        self.rx_queue.insert(idx, frame);
+    }
+}
+
+/// The tick of the first queued frame's start.
+pub(crate) fn first_frame_tick(chip: &Chip) -> Option<u64> {
+    chip.tp
+        .rx_queue
+        .front()
+        .map(|f| chip.clock.tick_at_or_after(f.start))
+}
+
+/// The next tick at which the telegram processor acts.
+pub(crate) fn next_tick(chip: &Chip) -> Option<u64> {
+    chip.tp.next_tick_with(first_frame_tick(chip))
+}
+
+/// A communication cycle started at `tick` (timing control): a master sends the MST and
+/// processes the block after it; without MST the block's times count from the cycle start.
+// 410B §4.1 0CH.0-1: MSTEN/MSTMASTER; §4.2.1 TRT "after end of MST".
+pub(crate) fn on_cycle_start(chip: &mut Chip, tick: u64) {
+    if !tp_enabled(chip) {
+        return;
+    }
+    let Some(block) = chip.engine.cycle.run.map(|r| r.block) else {
+        return;
+    };
+    let s = chip.engine.s;
+    let ref_tick = if s.sends_mst() {
+        crate::mst::send_mst(chip, tick)
+    } else if s.is_sercos_slave() {
+        // A slave's blocks start with the MST it receives (crate::mst).
+        return;
+    } else {
+        tick
+    };
+    chip.tp.pending_block = Some((ref_tick, block));
+}
+
+/// Processes one event due at `tick` (the earliest the processor has).
+pub(crate) fn step(chip: &mut Chip, tick: u64) {
+    if chip.tp.tx_end == Some(tick) {
+        transmit::end(chip, tick);
+        return;
+    }
+    if chip.tp.rx_now.as_ref().is_some_and(|r| r.end_tick == tick) {
+        receive::frame_end(chip, tick);
+        return;
+    }
+    if first_frame_tick(chip) == Some(tick) {
+        receive::frame_start(chip, tick);
+        return;
+    }
+    if let Some((t, block)) = chip.tp.pending_block
+        && t == tick
+    {
+        chip.tp.pending_block = None;
+        start_block(chip, tick, block);
+        return;
+    }
+    if chip.tp.mst.deadline == Some(tick) {
+        crate::mst::deadline(chip, tick);
+        return;
+    }
+    let Some(b) = chip.tp.block else { return };
+    match b.cur {
+        Some(Cur::Tx { at, hdr, start }) if start == tick => transmit::start(chip, tick, at, hdr),
+        Some(Cur::Rx {
+            at,
+            hdr,
+            open,
+            close,
+            announced,
+        }) => {
+            if !announced && open == tick {
+                // 410B §4.1 4H.12 INT_RWAIT "start waiting for receive telegram", 3H.10
+                // FLRWAIT, 23H/24H THWPT/THW: the telegram that is expected.
+                chip.tp.flrwait = true;
+                chip.tp.thwpt = at;
+                chip.tp.thw = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
+                chip.engine.flags.lo |= INT_RWAIT;
+                set_cur(
+                    chip,
+                    Some(Cur::Rx {
+                        at,
+                        hdr,
+                        open,
+                        close,
+                        announced: true,
+                    }),
+                );
+            } else if announced && close == Some(tick) {
+                receive::missing(chip, at, hdr);
+                advance(chip, tick, hdr.pt);
+            } else {
+                // Defensive: an event in the past cannot be processed any more.
+                abort_block(chip, tick);
+            }
+        }
+        Some(Cur::End { at, ready }) if ready == tick => end_marker(chip, tick, at),
+        _ => abort_block(chip, tick),
+    }
+}
+
+fn set_cur(chip: &mut Chip, cur: Option<Cur>) {
+    if let Some(b) = chip.tp.block.as_mut() {
+        b.cur = cur;
+    }
+}
+
+/// Starts processing transmission block `block` at `tick` (the end of the MST).
+// 410B §4.1 0CH.2-3 COMBLK0/1, §4.2 COMPT0-1 "Start of transmission blocks 0-1".
+pub(crate) fn start_block(chip: &mut Chip, tick: u64, block: u8) {
+    if chip.tp.block.is_some() {
+        // The previous block has not reached its end marker: its telegrams overlap the
+        // next cycle's.
+        prog_error(chip, ProgErr::Overlap);
+        abort_block(chip, tick);
+    }
+    chip.tp.block = Some(Block {
+        block,
+        ref_tick: tick,
+        cur: None,
+        steps: 0,
+        last_end: tick,
+    });
+    let compt = walk::word(&chip.ram, u32::from(block & 1)).unwrap_or(0);
+    load(chip, tick, compt);
+}
+
+/// Ends the block in progress early: a receive telegram still expected counts as missing.
+pub(crate) fn abort_block(chip: &mut Chip, _tick: u64) {
+    if let Some(b) = chip.tp.block.take()
+        && let Some(Cur::Rx { at, hdr, .. }) = b.cur
+    {
+        receive::missing(chip, at, hdr);
+    }
+    chip.tp.flrwait = false;
+    chip.tp.fifo.tx_want = 0;
+}
+
+/// Moves on to the header at `pt` at `tick`.
+pub(crate) fn advance(chip: &mut Chip, tick: u64, pt: u16) {
+    load(chip, tick, pt);
+}
+
+/// Reads the header at `ptr` (410B §4.2.1 PT: "Word address within the RAM of the next
+/// telegram header or the end marker") and makes it current.
+fn load(chip: &mut Chip, tick: u64, ptr: u16) {
+    let limit = max_steps(chip);
+    let Some(b) = chip.tp.block.as_mut() else {
+        return;
+    };
+    b.steps += 1;
+    let steps = b.steps;
+    let ref_tick = b.ref_tick;
+    chip.tp.flrwait = false;
+    if steps > limit {
+        // A list that never reaches its end marker loops.
+        prog_error(chip, ProgErr::NoEndMarker);
+        abort_block(chip, tick);
+        return;
+    }
+    let variant = chip.cfg.variant;
+    let ptr = ptr & variant.pointer_mask();
+    let header = match walk::header_at(&chip.ram, variant, ptr) {
+        Ok(h) => h,
+        Err(e) => {
+            prog_error(chip, e);
+            abort_block(chip, tick);
+            return;
+        }
+    };
+    let period = chip.engine.pre.period();
+    let at_us = |us: u64| ref_tick.saturating_add(us.saturating_mul(period));
+    let cur = match header {
+        Header::Transmit(hdr) => {
+            // 410B §4.2.1 TRT: "Time for the start of telegram in µs after the end of MST".
+            let start = at_us(u64::from(hdr.trt));
+            let start = if start < tick {
+                // Due before its header was reached: the telegrams overlap in time.
+                prog_error(chip, ProgErr::Overlap);
+                tick
+            } else {
+                start
+            };
+            transmit::prepare(chip, ptr, &hdr);
+            Cur::Tx {
+                at: ptr,
+                hdr,
+                start,
+            }
+        }
+        Header::Receive(hdr) => {
+            let trt = u64::from(hdr.trt);
+            let (open, close) = if hdr.tchk {
+                // 410B §4.2.1 TCHK with §4.1 18H/19H JTRDEL1/2, the receive window
+                // (spec-notes "receive window"): TRT − JTRDEL1 ..= TRT + JTRDEL2.
+                let j1 = u64::from(chip.engine.regs.stored(Register::Jtrdel1));
+                let j2 = u64::from(chip.engine.regs.stored(Register::Jtrdel2));
+                (
+                    at_us(trt.saturating_sub(j1)).max(tick),
+                    Some(at_us(trt.saturating_add(j2)).max(tick)),
+                )
+            } else {
+                (tick, None)
+            };
+            Cur::Rx {
+                at: ptr,
+                hdr,
+                open,
+                close,
+                announced: false,
+            }
+        }
+        Header::End(_) => Cur::End {
+            at: ptr,
+            ready: tick,
+        },
+    };
+    set_cur(chip, Some(cur));
+}
+
+/// The end marker is current at `tick`: the block ends once its last telegram has.
+// 410B §4.2.3 TEND: "Time after end of MST at which the last telegram has ended (in µs)".
+fn end_marker(chip: &mut Chip, tick: u64, at: u16) {
+    let busy_tx = chip.tp.tx_end.filter(|t| *t > tick);
+    let busy_rx = chip
+        .tp
+        .rx_now
+        .as_ref()
+        .filter(|r| matches!(r.role, RxRole::Telegram { .. }) && r.end_tick > tick)
+        .map(|r| r.end_tick);
+    if let Some(later) = busy_tx.max(busy_rx) {
+        set_cur(chip, Some(Cur::End { at, ready: later }));
+        return;
+    }
+    let Some(b) = chip.tp.block.take() else {
+        return;
+    };
+    let period = chip.engine.pre.period().max(1);
+    let tend = b.last_end.saturating_sub(b.ref_tick).div_ceil(period);
+    walk::set_word(
+        &mut chip.ram,
+        u32::from(at) + 1,
+        u16::try_from(tend).unwrap_or(u16::MAX),
+    );
+    // 410B §4.1 4H.4 INT_COMEND "end of transmission block"; 3H.6 COMACT falls.
+    chip.engine.flags.lo |= INT_COMEND;
+}
+
+/// Whether a block is being processed (3H.6 COMACT) and which (3H.7 COMBLK).
+pub(crate) fn comact(chip: &Chip) -> Option<u8> {
+    chip.tp.block.map(|b| b.block)
+}
+
+/// Sends `chip.tp.txbuf` on the line at `at`; the instant after its closing flag.
+pub(crate) fn send_line(chip: &mut Chip, at: Instant) -> Option<Instant> {
+    line_out::send(chip, at)
+}
+
+/// The RAM word at `addr` (0 outside the RAM).
+pub(crate) fn ram_word(chip: &Chip, addr: u16) -> u16 {
+    walk::word(&chip.ram, u32::from(addr)).unwrap_or(0)
+}
+
+/// Writes the RAM word at `addr` (nothing outside the RAM).
+pub(crate) fn set_ram_word(chip: &mut Chip, addr: u16, value: u16) {
+    walk::set_word(&mut chip.ram, u32::from(addr), value);
+}

@@ -1,0 +1,287 @@
+//! Receive telegrams (410B §4.2.1 receive header, §4.2.2 data containers by POS/LEN,
+//! §4.1 3H.10-11, 4H.12-15, 5H.8, 5H.15, 0BH RECADR, 25H/26H THRPT/THR; 816 §2.9, §2.10.2).
+
+use sercon_regs::Variant;
+use sercon_regs::ram::header::{Buffering, HeaderKind, RxHeader};
+
+use super::status::{INT_NEWADR, INT_REND, INT_RERR, INT_RMISS, INT_RSTART, ProgErr};
+use super::transmit::raise_sc;
+use super::walk::{self, Containers};
+use super::{Cur, RxNow, RxRole, advance, prog_error, reg25, set_flmdtadr};
+use crate::chip::Chip;
+use crate::service_container::{self, ScMode};
+
+/// ERRATA "Telegrams": the MST is ADR 255 with one data byte.
+pub(crate) fn is_mst(bytes: &[u8]) -> bool {
+    bytes.len() == 2 && bytes.first() == Some(&255)
+}
+
+/// The first queued frame starts at `tick`.
+pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
+    let Some(frame) = chip.tp.rx_queue.pop_front() else {
+        return;
+    };
+    if chip.tp.rx_now.is_some() {
+        // A frame starting before the previous ended (the line delivered overlapping
+        // frames): the previous one ends here.
+        frame_end(chip, tick);
+    }
+    let end_tick = chip.clock.tick_at_or_after(frame.end).max(tick);
+    let role = if is_mst(&frame.bytes) {
+        crate::mst::mst_start(chip, tick);
+        RxRole::Mst
+    } else {
+        accept(chip, tick, &frame.bytes)
+    };
+    chip.tp.rx_now = Some(RxNow {
+        frame,
+        end_tick,
+        role,
+    });
+}
+
+/// Decides at the start of a frame whether it is the expected receive telegram.
+fn accept(chip: &mut Chip, tick: u64, bytes: &[u8]) -> RxRole {
+    let Some(b) = chip.tp.block else {
+        return RxRole::Ignored;
+    };
+    let Some(Cur::Rx {
+        at,
+        hdr,
+        open,
+        close,
+        ..
+    }) = b.cur
+    else {
+        return RxRole::Ignored;
+    };
+    // 410B §4.2.1 TCHK: "The time of receiving is checked": outside the window the frame
+    // is not this telegram.
+    if tick < open || close.is_some_and(|c| tick > c) {
+        return RxRole::Ignored;
+    }
+    let adr = bytes.first().copied().unwrap_or(0);
+    let (_, phas12, _) = reg25(chip);
+    if hdr.achk && adr != hdr.adr && !phas12 {
+        // 410B §4.2.1 ACHK = 1: "Telegrams are received if the address is valid".
+        return RxRole::Ignored;
+    }
+    // Accepted: 3H.10 FLRWAIT falls, 3H.11 FLREC rises, 4H.13 INT_RSTART, 25H/26H.
+    chip.tp.flrwait = false;
+    chip.tp.flrec = true;
+    chip.engine.flags.lo |= INT_RSTART;
+    chip.tp.thrpt = at & 0x03FF;
+    chip.tp.thr = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
+    let mut h = hdr;
+    if h.buffering() != Buffering::Double {
+        // 410B §4.2.1 VAL, single buffer or DMA: "telegram data is invalid (VAL = 0)";
+        // "Modified by controller at beginning and end of receive telegrams".
+        h.val = false;
+        write_word0(chip, at, &h);
+    }
+    // The next header is read at the start of this telegram (816 §2.10.1.2, Figure 6).
+    advance(chip, tick, hdr.pt);
+    RxRole::Telegram { at, hdr: h }
+}
+
+fn write_word0(chip: &mut Chip, at: u16, h: &RxHeader) {
+    let mut cur = *h;
+    // Only word 0 is written; keep the header's other words as they are in the RAM.
+    cur.pt = 0;
+    let w0 = cur.to_words(chip.cfg.variant)[0];
+    walk::set_word(&mut chip.ram, u32::from(at), w0);
+}
+
+/// Increments NERR (receive header word 4), saturating (spec-notes "NERR").
+fn count_error(chip: &mut Chip, at: u16) {
+    let a = u32::from(at) + 4;
+    let n = walk::word(&chip.ram, a).unwrap_or(0);
+    walk::set_word(&mut chip.ram, a, n.saturating_add(1));
+}
+
+/// The frame being received ended at `tick`.
+pub(super) fn frame_end(chip: &mut Chip, tick: u64) {
+    let Some(now) = chip.tp.rx_now.take() else {
+        return;
+    };
+    match now.role {
+        RxRole::Ignored => {}
+        RxRole::Mst => crate::mst::mst_end(chip, tick, &now.frame),
+        RxRole::Telegram { at, hdr } => {
+            finish(chip, tick, at, hdr, &now.frame.bytes, now.frame.fcs_ok);
+        }
+    }
+}
+
+/// Completes the receive telegram of header `at` with `bytes` (ADR + data).
+fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHeader, bytes: &[u8], fcs_ok: bool) {
+    chip.tp.flrec = false;
+    if let Some(b) = chip.tp.block.as_mut() {
+        b.last_end = b.last_end.max(tick);
+    }
+    let adr = bytes.first().copied().unwrap_or(0);
+    // 410B §4.1 0BH RECADR: "Address of receive telegram".
+    chip.tp.recadr = adr;
+    // 410B §4.2.1 TLEN: a frame of another length is not this telegram (spec-notes).
+    let ok = fcs_ok && bytes.len() == 1 + 2 * usize::from(hdr.tlen);
+    let (_, phas12, _) = reg25(chip);
+    let mut h = hdr;
+    // Re-read word 0's VAL: only the controller changes it for receive telegrams
+    // (816 §2.10.1.1), but keep NERR from the RAM.
+    if ok && phas12 {
+        // 410B §4.1 25H.12 FLMDTADR: "Address of receive telegram equal to expected
+        // value"; 816 §2.9.2: an MDT with another address resets it.
+        let matches = adr == hdr.adr;
+        set_flmdtadr(chip, matches);
+        if hdr.achk && !matches {
+            // Phase 1/2: an MDT for another drive ends the wait without data.
+            chip.engine.flags.lo |= INT_REND;
+            rscend(chip);
+            return;
+        }
+    }
+    if !ok {
+        // 410B §4.2.1 RERR "errored or not received", NERR "Error counter"; 4H.15
+        // INT_RERR; data unchanged; 5H.8 INT_RMISS on the second in a row.
+        if hdr.rerr {
+            chip.engine.flags.hi |= INT_RMISS;
+        }
+        h.rerr = true;
+        write_word0(chip, at, &h);
+        count_error(chip, at);
+        chip.engine.flags.lo |= INT_RERR | INT_REND;
+        service_error(chip, at, &h);
+        rscend(chip);
+        return;
+    }
+    store(chip, at, &h, bytes);
+    if !hdr.achk && adr != hdr.adr {
+        // 410B §4.2.1 ACHK = 0: "The received address is stored at ADR"; 5H.15
+        // INT_NEWADR "address change" (spec-notes).
+        h.adr = adr;
+        chip.engine.flags.hi |= INT_NEWADR;
+    }
+    h.rerr = false;
+    h.val = match h.buffering() {
+        // 410B §4.2.1 VAL, double buffer: the buffer just written becomes the valid one.
+        Buffering::Double => !hdr.val,
+        _ => true,
+    };
+    write_word0(chip, at, &h);
+    chip.engine.flags.lo |= INT_REND;
+    rscend(chip);
+}
+
+/// 816 §2.10.2.2 INT_RSCEND: "at the end of a receive telegram, if there are no service
+/// container that need to be worked on or in case the work is completed".
+fn rscend(chip: &mut Chip) {
+    if chip.cfg.variant == Variant::Sercon816 {
+        chip.engine.flags.rscend = true;
+    }
+}
+
+/// Stores the data of a good telegram container by container (410B §4.2.2 POS: "Position
+/// of the data block within the telegram in number of words").
+fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
+    let variant = chip.cfg.variant;
+    let buffering = h.buffering();
+    let data = bytes.get(1..).unwrap_or(&[]);
+    let mut list = std::mem::take(&mut chip.tp.containers);
+    let mut record = std::mem::take(&mut chip.tp.record);
+    list.clear();
+    let mut walk = Containers::new(&chip.ram, at, HeaderKind::Receive, buffering);
+    list.extend(walk.by_ref());
+    let walk_error = walk.error;
+    let mut overrun = false;
+    let mut fifo_overrun = false;
+    if buffering == Buffering::Dma && !chip.tp.fifo.rx.is_empty() {
+        // The host has not read the previous telegram's words.
+        fifo_overrun = true;
+        chip.tp.fifo.rx.clear();
+    }
+    for c in list.iter() {
+        let pos = usize::from(c.pos);
+        let len = usize::from(c.control.len);
+        record.clear();
+        for i in 0..len {
+            let k = 2 * (pos + i);
+            match (data.get(k), data.get(k + 1)) {
+                (Some(lo), Some(hi)) => record.push(u16::from_le_bytes([*lo, *hi])),
+                _ => {
+                    overrun = true;
+                    break;
+                }
+            }
+        }
+        if overrun {
+            break;
+        }
+        match buffering {
+            Buffering::Dma => chip.tp.fifo.rx.extend(record.iter().copied()),
+            // Double buffer: write the buffer that is not valid (VAL selects the valid one).
+            _ => {
+                let dst = c.buffer(buffering, !h.val);
+                for (i, w) in record.iter().enumerate() {
+                    walk::set_word(&mut chip.ram, dst + i as u32, *w);
+                }
+            }
+        }
+        if c.control.svfl {
+            let mode = ScMode::from_scmaster(c.control.scmaster);
+            let nsv = c.control.nsv;
+            let o = service_container::on_receive(&mut chip.ram, variant, nsv, mode, &record, true);
+            raise_sc(chip, nsv, o.int_sc);
+        }
+    }
+    chip.tp.containers = list;
+    chip.tp.record = record;
+    if let Some(e) = walk_error {
+        prog_error(chip, e);
+    }
+    if overrun {
+        prog_error(chip, ProgErr::ContainerOverrun);
+    }
+    if fifo_overrun {
+        prog_error(chip, ProgErr::DmaFifo);
+    }
+}
+
+/// Service containers of an errored or missing telegram record RECERR (410B §4.2.4).
+fn service_error(chip: &mut Chip, at: u16, h: &RxHeader) {
+    let variant = chip.cfg.variant;
+    let mut list = std::mem::take(&mut chip.tp.containers);
+    list.clear();
+    list.extend(Containers::new(
+        &chip.ram,
+        at,
+        HeaderKind::Receive,
+        h.buffering(),
+    ));
+    for c in list.iter().filter(|c| c.control.svfl) {
+        let mode = ScMode::from_scmaster(c.control.scmaster);
+        let nsv = c.control.nsv;
+        let o = service_container::on_receive(&mut chip.ram, variant, nsv, mode, &[], false);
+        raise_sc(chip, nsv, o.int_sc);
+    }
+    chip.tp.containers = list;
+}
+
+/// The expected telegram of header `at` did not come (window closed, block ended).
+// 410B §4.2.1 RERR "errored or not received"; 5H.8 INT_RMISS "receive telegram missing
+// twice": RERR still set from the last cycle makes this the second in a row.
+pub(super) fn missing(chip: &mut Chip, at: u16, hdr: RxHeader) {
+    chip.tp.flrwait = false;
+    // Re-read: the header in RAM is the truth (RERR of the previous cycle).
+    let rerr_before = walk::word(&chip.ram, u32::from(at)).is_some_and(|w| w & (1 << 13) != 0);
+    if rerr_before {
+        chip.engine.flags.hi |= INT_RMISS;
+    }
+    let mut h = hdr;
+    h.rerr = true;
+    if let Some(w0) = walk::word(&chip.ram, u32::from(at)) {
+        h.val = w0 & (1 << 10) != 0;
+    }
+    write_word0(chip, at, &h);
+    count_error(chip, at);
+    service_error(chip, at, &h);
+}

@@ -1,0 +1,205 @@
+//! Transmit telegrams (410B §4.2.1 transmit header, §4.2.2 data containers; 816 §2.9,
+//! §2.10.1).
+
+use sercon_regs::Variant;
+use sercon_regs::ram::header::{Buffering, HeaderKind, TxEnable, TxHeader};
+
+use super::status::{INT_TEND, INT_TSTART, ProgErr};
+use super::walk::{self, Containers};
+use super::{Cur, advance, entmt, prog_error, reg25, set_flmdtadr};
+use crate::chip::Chip;
+use crate::service_container::{self, ScMode};
+
+/// A transmit header became current (read into NTH): a DMA telegram asks for its data.
+// 410B §2 DMAREQT: "becomes active when data can be written to the transmit FIFO".
+pub(super) fn prepare(chip: &mut Chip, at: u16, hdr: &TxHeader) {
+    chip.tp.fifo.tx.clear();
+    chip.tp.fifo.tx_want = 0;
+    if hdr.buffering() != Buffering::Dma || hdr.en == TxEnable::Off {
+        return;
+    }
+    let want: usize = Containers::new(&chip.ram, at, HeaderKind::Transmit, Buffering::Dma)
+        .map(|c| usize::from(c.control.len))
+        .sum();
+    chip.tp.fifo.tx_want = want.min(usize::from(hdr.tlen));
+}
+
+/// Whether the telegram is sent, by EN (410B §4.2.1: "not to be transmitted (EN = 0),
+/// transmitted once (EN = 1), continuously (EN = 2) or transmitted only if the
+/// previously received telegram contains the expected address (EN = 3) (PHAS12 = 1 and
+/// FLMDTADR = 1)").
+fn enabled(en: TxEnable, phas12: bool, flmdtadr: bool) -> bool {
+    match en {
+        TxEnable::Off => false,
+        TxEnable::Once | TxEnable::Continuous => true,
+        TxEnable::OnAddress => phas12 && flmdtadr,
+    }
+}
+
+/// The transmit telegram of the header at `at` is due at `tick`; `nth` is the header as
+/// read when it became current.
+pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHeader) {
+    let variant = chip.cfg.variant;
+    let mut hdr = nth;
+    if variant == Variant::Sercon816 {
+        // 816 §2.10.1.2: "the VAL bit is read from the telegram header at start of a
+        // transmit telegram again, all other data of the telegram header (ADR, DMA, DBUF
+        // and EN) will NOT be read again." The 410B keeps the VAL of NTH.
+        let w0 = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
+        hdr.val = w0 & (1 << 10) != 0;
+    }
+    // The next header is read at the start of this telegram (816 §2.10.1.2, Figure 6:
+    // "After start of a telegram the telegram header of the next expected telegram is
+    // written into register NTH").
+    let (_, phas12, flmdtadr) = reg25(chip);
+    let send = entmt(chip) && enabled(hdr.en, phas12, flmdtadr);
+    if !send || tick < chip.tp.tx_busy_until {
+        if send {
+            // The transmitter is still busy with the previous telegram.
+            prog_error(chip, ProgErr::Overlap);
+        }
+        chip.tp.fifo.tx_want = 0;
+        advance(chip, tick, hdr.pt);
+        return;
+    }
+    if hdr.en == TxEnable::Once {
+        // 410B §4.2.1 EN: "If EN is 1 the circuit sets EN to 0 after the transmit telegram
+        // has been started"; the whole word 0 is written back, with the VAL last read
+        // (816 §2.10.1.2; on the 410B that is NTH's VAL, overwriting a newer one).
+        let mut back = hdr;
+        back.en = TxEnable::Off;
+        let w0 = back.to_words(variant)[0];
+        walk::set_word(&mut chip.ram, u32::from(at), w0);
+    }
+    if hdr.en == TxEnable::OnAddress && variant == Variant::Sercon816 {
+        // 816 §2.9.2: "the flag FLMDTADR is reset after starting to send a telegram when
+        // initiated when the flag is set. Therefore sending AT's can occur only once."
+        set_flmdtadr(chip, false);
+    }
+    assemble(chip, at, &hdr);
+    let start = chip.clock.instant(tick);
+    let end = match super::line_out::send(chip, start) {
+        Some(end) => chip.clock.tick_at_or_after(end).max(tick),
+        None => tick,
+    };
+    chip.tp.tx_busy_until = end;
+    chip.tp.tx_end = Some(end);
+    // 410B §4.1 21H THTPT / 22H THT: header of the transmitted telegram; 4H.10 INT_TSTART.
+    chip.tp.thtpt = at;
+    chip.tp.tht = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
+    chip.engine.flags.lo |= INT_TSTART;
+    if let Some(b) = chip.tp.block.as_mut() {
+        b.last_end = b.last_end.max(end);
+    }
+    advance(chip, tick, hdr.pt);
+    // A transmit telegram after this one cannot start before this one has ended.
+    if let Some(b) = chip.tp.block
+        && let Some(Cur::Tx { start, .. }) = b.cur
+        && start < end
+    {
+        prog_error(chip, ProgErr::Overlap);
+    }
+}
+
+/// Builds ADR and the data words of the telegram in `chip.tp.txbuf`.
+// 410B §4.2.1 ADR, TLEN ("Length of the telegram in data words (not including address)");
+// §4.2.2: the data containers in order, from the valid buffer or the transmit FIFO.
+fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
+    let variant = chip.cfg.variant;
+    let buffering = hdr.buffering();
+    let tlen = usize::from(hdr.tlen);
+    let mut buf = std::mem::take(&mut chip.tp.txbuf);
+    let mut record = std::mem::take(&mut chip.tp.record);
+    buf.clear();
+    buf.push(hdr.adr);
+    let mut words = 0usize;
+    let mut overrun = false;
+    let mut fifo_short = false;
+    let (hs, busy) = {
+        let w = chip.engine.regs.stored(sercon_regs::Register::ScTimeout);
+        ((w & 0xFF) as u8, (w >> 8) as u8)
+    };
+    let mut list = std::mem::take(&mut chip.tp.containers);
+    list.clear();
+    let mut walk = Containers::new(&chip.ram, at, HeaderKind::Transmit, buffering);
+    list.extend(walk.by_ref());
+    let walk_error = walk.error;
+    for c in list.iter() {
+        let len = usize::from(c.control.len);
+        record.clear();
+        match buffering {
+            Buffering::Dma => {
+                for _ in 0..len {
+                    match chip.tp.fifo.tx.pop_front() {
+                        Some(w) => record.push(w),
+                        None => {
+                            fifo_short = true;
+                            record.push(0);
+                        }
+                    }
+                }
+            }
+            _ => {
+                let from = c.buffer(buffering, hdr.val);
+                for i in 0..len {
+                    record.push(walk::word(&chip.ram, from + i as u32).unwrap_or(0));
+                }
+            }
+        }
+        if c.control.svfl {
+            // 410B §4.2.2 SVFL/NSV/SCMASTER: the service container fills in the record's
+            // service-channel bits and info words.
+            let mode = ScMode::from_scmaster(c.control.scmaster);
+            let nsv = c.control.nsv;
+            if mode == ScMode::Master {
+                let o = service_container::on_cycle(&mut chip.ram, variant, nsv, mode, hs, busy);
+                raise_sc(chip, nsv, o.int_sc);
+            }
+            let o = service_container::on_transmit(&mut chip.ram, variant, nsv, mode, &mut record);
+            raise_sc(chip, nsv, o.int_sc);
+        }
+        for w in record.iter() {
+            if words >= tlen {
+                overrun = true;
+                break;
+            }
+            buf.extend_from_slice(&w.to_le_bytes());
+            words += 1;
+        }
+    }
+    // Containers shorter than TLEN: the rest of the telegram is sent as 0.
+    while words < tlen {
+        buf.extend_from_slice(&[0, 0]);
+        words += 1;
+    }
+    chip.tp.fifo.tx.clear();
+    chip.tp.fifo.tx_want = 0;
+    chip.tp.txbuf = buf;
+    chip.tp.record = record;
+    chip.tp.containers = list;
+    if let Some(e) = walk_error {
+        prog_error(chip, e);
+    }
+    if overrun {
+        prog_error(chip, ProgErr::ContainerOverrun);
+    }
+    if fifo_short {
+        prog_error(chip, ProgErr::DmaFifo);
+    }
+}
+
+/// 410B §4.1 5H.0-7 INT_SC_n.
+pub(super) fn raise_sc(chip: &mut Chip, nsv: u8, raised: bool) {
+    if raised {
+        chip.engine.flags.hi |= 1 << (nsv & 7);
+    }
+}
+
+/// The telegram being sent ended at `tick`: FLTMT falls, INT_TEND (410B §4.1 3H.9, 4H.11).
+pub(super) fn end(chip: &mut Chip, tick: u64) {
+    chip.tp.tx_end = None;
+    chip.engine.flags.lo |= INT_TEND;
+    if let Some(b) = chip.tp.block.as_mut() {
+        b.last_end = b.last_end.max(tick);
+    }
+}

@@ -1,0 +1,147 @@
+//! Reading the header chain and the data containers out of the RAM, bounded: whatever the
+//! RAM holds, every walk ends (410B §4.2.1–§4.2.3, ERRATA "Dual-port RAM").
+
+use sercon_regs::Variant;
+use sercon_regs::ram::container::ContainerControl;
+use sercon_regs::ram::header::{Buffering, Header, HeaderKind};
+
+use super::status::ProgErr;
+
+/// The RAM word at `addr`, `None` outside the RAM.
+pub(crate) fn word(ram: &[u16], addr: u32) -> Option<u16> {
+    usize::try_from(addr).ok().and_then(|a| ram.get(a)).copied()
+}
+
+/// Writes `value` at `addr`; outside the RAM nothing happens.
+pub(crate) fn set_word(ram: &mut [u16], addr: u32, value: u16) {
+    if let Some(w) = usize::try_from(addr).ok().and_then(|a| ram.get_mut(a)) {
+        *w = value;
+    }
+}
+
+/// Decodes the structure a header pointer points at.
+// ERRATA "telegram header marker bits": 00 receive, 01 transmit, 11 end marker; 10 is no
+// structure at all, which the model reports as a list without end marker.
+pub(crate) fn header_at(ram: &[u16], variant: Variant, addr: u16) -> Result<Header, ProgErr> {
+    let start = usize::from(addr);
+    let words = ram.get(start..).ok_or(ProgErr::OutsideRam)?;
+    let w0 = words.first().copied().ok_or(ProgErr::OutsideRam)?;
+    let kind = HeaderKind::classify(w0).map_err(|_| ProgErr::NoEndMarker)?;
+    if words.len() < kind.words() {
+        return Err(ProgErr::OutsideRam);
+    }
+    Header::decode(variant, words).map_err(|_| ProgErr::OutsideRam)
+}
+
+/// One data container as the walk found it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Container {
+    /// Word address of control word 0.
+    pub(crate) at: u32,
+    /// Control word 0 (LEN, SVFL, NSV, SCMASTER, LASTDC).
+    pub(crate) control: ContainerControl,
+    /// POS (receive containers only; 0 for transmit containers).
+    pub(crate) pos: u16,
+    /// Word address of the first data word (buffer 0).
+    pub(crate) data: u32,
+}
+
+impl Container {
+    /// Word address of the buffer holding data for `val` (double buffer: VAL = 0 buffer 0,
+    /// VAL = 1 buffer 1; single buffer: the one buffer).
+    // 410B §4.2.2 / ERRATA "container words": buffer 0 then buffer 1.
+    pub(crate) fn buffer(&self, buffering: Buffering, val: bool) -> u32 {
+        match buffering {
+            Buffering::Double if val => self.data + u32::from(self.control.len),
+            _ => self.data,
+        }
+    }
+}
+
+/// Iterator over the data containers following a header, ending after LASTDC = 1.
+///
+/// Bounded by the RAM: a container must start inside the RAM and its words must fit, and
+/// there are at most as many containers as RAM words. A violation ends the walk with the
+/// error in [`Containers::error`].
+pub(crate) struct Containers<'r> {
+    ram: &'r [u16],
+    next: u32,
+    control_words: u32,
+    buffering: Buffering,
+    left: usize,
+    done: bool,
+    /// What ended the walk early, if anything.
+    pub(crate) error: Option<ProgErr>,
+}
+
+impl<'r> Containers<'r> {
+    /// The containers of a header at `header_at` with `header_words` words.
+    // ERRATA "data containers": a header is followed directly by its containers; receive
+    // containers have two control words (LEN/flags, POS), transmit containers one.
+    pub(crate) fn new(
+        ram: &'r [u16],
+        header_at: u16,
+        kind: HeaderKind,
+        buffering: Buffering,
+    ) -> Self {
+        let (header_words, control_words) = match kind {
+            HeaderKind::Receive => (5, 2),
+            _ => (4, 1),
+        };
+        Containers {
+            ram,
+            next: u32::from(header_at) + header_words,
+            control_words,
+            buffering,
+            left: ram.len(),
+            done: matches!(kind, HeaderKind::EndMarker),
+            error: None,
+        }
+    }
+}
+
+impl Iterator for Containers<'_> {
+    type Item = Container;
+
+    fn next(&mut self) -> Option<Container> {
+        if self.done {
+            return None;
+        }
+        if self.left == 0 {
+            self.done = true;
+            self.error = Some(ProgErr::ContainerOverrun);
+            return None;
+        }
+        self.left -= 1;
+        let at = self.next;
+        let (Some(w0), Some(pos)) = (
+            word(self.ram, at),
+            if self.control_words == 2 {
+                word(self.ram, at + 1)
+            } else {
+                Some(0)
+            },
+        ) else {
+            self.done = true;
+            self.error = Some(ProgErr::OutsideRam);
+            return None;
+        };
+        let control = ContainerControl::from_word(w0);
+        let data = at + self.control_words;
+        let end = data + control.data_words(self.buffering);
+        if end as usize > self.ram.len() {
+            self.done = true;
+            self.error = Some(ProgErr::OutsideRam);
+            return None;
+        }
+        self.next = end;
+        // 410B §4.2.2 LASTDC: "Last data container of the telegram".
+        self.done = control.lastdc;
+        Some(Container {
+            at,
+            control,
+            pos,
+            data,
+        })
+    }
+}
