@@ -145,7 +145,10 @@ impl ContainerPlace {
         let header_words = (RECORD_HEADER_BYTES / 2) as u16;
         match (self.buffering, buffer) {
             (Buffering::Single, 0) | (Buffering::Double, 0) => self.data.checked_add(header_words),
-            (Buffering::Double, 1) => self.data.checked_add(self.len + header_words),
+            (Buffering::Double, 1) => self
+                .data
+                .checked_add(self.len)
+                .and_then(|a| a.checked_add(header_words)),
             _ => None,
         }
     }
