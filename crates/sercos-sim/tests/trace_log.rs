@@ -139,6 +139,8 @@ fn json_lines_parse_and_carry_the_fields() {
     assert_eq!(broken["fcs"], "none");
     assert_eq!(broken["line_error"], "abort");
     assert_eq!(values[5]["detail"], "malformed");
+    assert_eq!(values[2]["bytes"], "0306c042001122");
+    assert_eq!(values[4]["bytes"], "ff01");
 }
 
 #[test]

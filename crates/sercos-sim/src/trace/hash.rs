@@ -1,14 +1,19 @@
-//! A fingerprint of a trace: SHA-256 over its text log.
+//! A fingerprint of a trace: SHA-256 over its records in capture form.
 //!
 //! DESIGN.md, Principles: "The same configuration and seed give byte-identical traces, on
 //! every run." Comparing two [`TraceHash`]es checks that without keeping both traces.
+//!
+//! Each record is hashed as the capture packet [`PcapTrace`](super::PcapTrace) would write
+//! (the 24-byte [`link_header`](super::link_header) followed by the bytes seen), preceded by
+//! its length as a 32-bit little-endian number. Unlike the text log this covers everything
+//! of a record: the exact picosecond time, the bit rate, both FCS values and every data byte.
 
 use core::fmt;
 
 use sha2::{Digest, Sha256};
 
+use super::link_header::{HEADER_LEN, LinkHeader};
 use super::record::TraceRecord;
-use super::telegram_log::{LogFormat, format_record};
 use super::{TraceError, TraceSink};
 
 /// A SHA-256 digest of a trace; shown as 64 lowercase hex digits.
@@ -16,7 +21,7 @@ use super::{TraceError, TraceSink};
 pub struct TraceHash(pub [u8; 32]);
 
 impl TraceHash {
-    /// The SHA-256 of `bytes` (for instance a log file written earlier).
+    /// The SHA-256 of `bytes` (for instance a file written earlier).
     pub fn of_bytes(bytes: &[u8]) -> TraceHash {
         TraceHash(Sha256::digest(bytes).into())
     }
@@ -28,13 +33,10 @@ impl fmt::Display for TraceHash {
     }
 }
 
-/// A sink that hashes the text log of the records it sees: the hash equals
-/// [`TraceHash::of_bytes`] over the [`TelegramLog`](super::TelegramLog) text of the same
-/// records.
+/// A sink that hashes the records it sees (see the [module documentation](self)).
 #[derive(Debug, Clone, Default)]
 pub struct TraceHasher {
     digest: Sha256,
-    line: String,
     records: u64,
 }
 
@@ -62,9 +64,12 @@ impl TraceHasher {
 
 impl TraceSink for TraceHasher {
     fn record(&mut self, record: &TraceRecord<'_>) -> Result<(), TraceError> {
-        self.line.clear();
-        format_record(record, LogFormat::Text, &mut self.line);
-        self.digest.update(self.line.as_bytes());
+        let bytes = record.bytes();
+        let len = HEADER_LEN.saturating_add(bytes.len());
+        let len = u32::try_from(len).map_err(|_| TraceError::TooLong { len })?;
+        self.digest.update(len.to_le_bytes());
+        self.digest.update(LinkHeader::of(record).to_bytes());
+        self.digest.update(bytes);
         self.records += 1;
         Ok(())
     }

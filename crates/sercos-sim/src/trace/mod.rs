@@ -7,7 +7,8 @@
 //! * [`TelegramLog`]: one line per record, as text or JSON ([`LogFormat`]);
 //! * [`PcapTrace`] / [`PcapNgTrace`]: captures with link type USER0 (147) and the pseudo-header
 //!   of [`link_header`], which `contrib/wireshark/sercos2.lua` dissects;
-//! * [`TraceHasher`]: SHA-256 of the text log, for "same seed, same trace" tests.
+//! * [`TraceHasher`]: SHA-256 over the records in capture form, for "same seed, same trace"
+//!   tests.
 //!
 //! Every writer formats deterministically: the same records give the same bytes.
 //!

@@ -16,8 +16,8 @@
 //! (number or `null`), then `phase` and `phase_byte` (MST), `control_word` and `service_info`
 //! (MDT), `status_word` and `service_info` (AT) or `"detail":"malformed"`/`"broken"`, then
 //! `len`, `fcs` (`"ok"`, `"bad"` or `"none"`), `fcs_received` and `fcs_computed` when bad, and
-//! `line_error` (a [`LineErrorKind`](super::LineErrorKind) name or `null`). Numbers are
-//! decimal integers.
+//! `line_error` (a [`LineErrorKind`](super::LineErrorKind) name or `null`), and last `bytes`,
+//! every byte seen as lowercase hex. Numbers are decimal integers.
 
 use core::fmt::Write as _;
 use std::io::Write;
@@ -223,6 +223,10 @@ fn json(record: &TraceRecord<'_>, summary: &Summary, out: &mut String) -> core::
         Some(kind) => write!(out, "\"{kind}\"")?,
         None => out.push_str("null"),
     }
-    out.push_str("}\n");
+    out.push_str(",\"bytes\":\"");
+    for byte in record.bytes() {
+        write!(out, "{byte:02x}")?;
+    }
+    out.push_str("\"}\n");
     Ok(())
 }
