@@ -275,3 +275,69 @@ fn worst_case_bits_bound_the_real_frame() {
     assert_eq!(worst_case_line_bits(2), 16 + 32 + 6);
     assert_eq!(worst_case_micros(2, BitRate::Mbit2), 27);
 }
+
+/// The captures' master's phase-2 writes of `idn` (first word) per drive 1-4, read from the
+/// real capture (`../shared/captures/`, see its README), or `None` when it is not present.
+fn captured_writes(idn: u16) -> Option<Vec<u16>> {
+    use sercos_wire::line::{self, CaptureFile, Coding, LineConfig, OwnedDecoded, Polarity};
+    use sercos_wire::service_transcript::{ServiceOp, TranscriptBuilder};
+    use sercos_wire::telegram::{MstPacket, Origin, TelegramKind, classify};
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/captures/tc2000r-phaseup.nrzi"
+    );
+    let bytes = std::fs::read(path).ok()?;
+    let file = CaptureFile::parse(&bytes).ok()?;
+    let frames = line::decode_all(
+        file.bits,
+        LineConfig::new(Coding::Nrzi, Polarity::LightOnLow),
+    );
+    let mut builder = TranscriptBuilder::new();
+    for (i, f) in frames.iter().enumerate() {
+        let OwnedDecoded::Telegram { bytes, .. } = f else {
+            continue;
+        };
+        match classify(bytes, Origin::Master) {
+            Ok(TelegramKind::Mst) => {
+                if let Ok(p) = MstPacket::new_checked(bytes.as_slice()) {
+                    builder.mst(p.phase_bits());
+                }
+            }
+            Ok(TelegramKind::Mdt) => builder.mdt(bytes, i as u64),
+            _ => {}
+        }
+    }
+    let entries = builder.finish();
+    Some(
+        (1..=4u8)
+            .filter_map(|drive| {
+                entries
+                    .iter()
+                    .find(|e| {
+                        e.drive == drive
+                            && e.op == ServiceOp::Write
+                            && e.idn.map(|i| i.raw()) == Some(idn)
+                    })
+                    .and_then(|e| e.words.first().copied())
+            })
+            .collect(),
+    )
+}
+
+#[test]
+fn the_real_capture_holds_the_values_compared_above() {
+    let Some(s0009) = captured_writes(9) else {
+        println!("skipped: ../shared/captures/tc2000r-phaseup.nrzi not present");
+        return;
+    };
+    let plan = plan_cycle(&capture_ring(MdtPlacement::EndOfCycle)).expect("fits");
+    // S-0-0009 and S-0-0010 as the FC7502 wrote them equal ours exactly.
+    let ours: Vec<u16> = plan.drives.iter().map(|d| d.mdt_offset).collect();
+    assert_eq!(s0009, ours);
+    assert_eq!(captured_writes(10), Some(vec![plan.mdt_length; 4]));
+    // The timing values the comparison test quotes.
+    assert_eq!(captured_writes(6), Some(vec![92, 336, 580, 824]));
+    assert_eq!(captured_writes(89), Some(vec![1782; 4]));
+    assert_eq!(captured_writes(8), Some(vec![1965; 4]));
+    assert_eq!(captured_writes(7), Some(vec![1698; 4]));
+}
