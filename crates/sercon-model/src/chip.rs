@@ -139,7 +139,7 @@ impl Chip {
             return None;
         }
         let core = crate::deadline::next_deadline(self);
-        match (core, self.serial_next_event()) {
+        match (core, self.serial_next_observable()) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         }

@@ -261,7 +261,7 @@ fn repeater_forwards_with_latency_and_substitutes_own_telegrams() {
     assert_eq!(out.len(), 2);
     assert_eq!(out[0].start, own_at);
     assert_eq!(out[0].end(), Some(own_end));
-    assert!(out[0].hint.as_ref().is_some_and(|h| &h.telegram[..] == MDT));
+    assert!(out[0].hint.as_ref().is_some_and(|h| h.telegram[..] == MDT));
     assert_eq!(out[1].start, own_end);
     assert_eq!(out[1].signal, LineSignal::Filler);
     // A telegram forwarded during the own one is replaced; after it, the rest of the

@@ -13,6 +13,9 @@ const INT_RDIST: u16 = 1 << 0;
 /// 410B §4.1 4H.1 INT_FIBBR.
 const INT_FIBBR: u16 = 1 << 1;
 
+/// Serial-port instants [`Chip::serial_next_observable`] looks ahead.
+const PROBE_STEPS: usize = 256;
+
 impl Chip {
     /// Hands the chip one segment of its receive line (RxD), in light levels.
     ///
@@ -22,7 +25,18 @@ impl Chip {
     /// and their interrupts follow when the chip's time reaches them. With the repeater on
     /// (1H.3 REPON) the segment is forwarded to the output.
     pub fn line_input(&mut self, seg: LineSegment) {
-        self.serial.line_input(seg);
+        let mut frames = Vec::new();
+        self.serial.line_input(seg, &mut frames);
+        // The telegram processor takes every frame the receiver saw (contract with tp).
+        for f in frames {
+            self.tp.on_rx_frame(crate::telegram_processor::RxTelegram {
+                start: f.start,
+                end: f.end,
+                bytes: f.bytes,
+                fcs_ok: f.fcs_ok,
+            });
+        }
+        self.settle();
     }
 
     /// Moves the output segments (TxD, in light levels) that start at or before
@@ -38,7 +52,8 @@ impl Chip {
         self.serial.next_output_at()
     }
 
-    /// Moves the telegrams received so far (time-ordered per input segment) to `out`.
+    /// Moves the telegrams received so far to `out` (a log for tools and tests, kept to the
+    /// newest [`super::RX_LOG_FRAMES`]; the telegram processor gets every frame anyway).
     pub fn take_rx_frames(&mut self, out: &mut Vec<RxFrame>) {
         self.serial.take_rx_frames(out);
     }
@@ -149,5 +164,38 @@ impl Chip {
     /// The next instant the serial port changes a status.
     pub(crate) fn serial_next_event(&self) -> Option<Instant> {
         self.serial.next_event_at()
+    }
+
+    /// The next instant a serial-port change is observable: a traced pin (IDLE, REACTN,
+    /// L_ERRN) changes, or an interrupt flag it sets changes INT0 or INT1. Found by running a
+    /// copy of the port forward (at most [`PROBE_STEPS`] instants, then that instant).
+    pub(crate) fn serial_next_observable(&self) -> Option<Instant> {
+        let mut probe = self.serial.clone();
+        let mut flags = self.engine.flags;
+        let s = &self.engine.s;
+        for _ in 0..PROBE_STEPS {
+            let before = (probe.idle(), probe.reactn(), probe.lerrn());
+            let ints = (flags.pin_level(s, 0), flags.pin_level(s, 1));
+            let (at, applied) = probe.step(Instant::MAX)?;
+            if !self.in_reset {
+                if applied.rdist_rose {
+                    flags.lo |= INT_RDIST;
+                }
+                if applied.fibbr_rose {
+                    flags.lo |= INT_FIBBR;
+                }
+            }
+            let after = (probe.idle(), probe.reactn(), probe.lerrn());
+            let pins = [
+                (Pin::Idle, before.0 != after.0),
+                (Pin::Reactn, before.1 != after.1),
+                (Pin::LErrn, before.2 != after.2),
+            ];
+            let traced = pins.iter().any(|(p, c)| *c && self.traced.contains(*p));
+            if traced || ints != (flags.pin_level(s, 0), flags.pin_level(s, 1)) {
+                return Some(at);
+            }
+        }
+        probe.next_event_at()
     }
 }

@@ -36,6 +36,9 @@ pub const PRESYNC_BITS: u64 = 16;
 /// data regeneration (`docs/spec-notes.md`, "Serial port").
 pub const REPEATER_LATENCY_BITS: u64 = 2;
 
+/// Frames kept for [`crate::Chip::take_rx_frames`] (the newest; older ones are dropped).
+pub const RX_LOG_FRAMES: usize = 4096;
+
 /// A telegram the receiver saw, known as soon as its line segment was handed to the chip.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RxFrame {
@@ -176,16 +179,21 @@ impl SerialPort {
         out
     }
 
-    /// Receives one segment of the line input.
-    pub(crate) fn line_input(&mut self, seg: LineSegment) {
+    /// Receives one segment of the line input; the frames it completes go to `frames` (and
+    /// to the log).
+    pub(crate) fn line_input(&mut self, seg: LineSegment, frames: &mut Vec<RxFrame>) {
+        let first = frames.len();
         self.rx.input(
             &seg,
             &self.cfg,
             Sinks {
                 events: &mut self.events,
-                frames: &mut self.rx_frames,
+                frames,
             },
         );
+        self.rx_frames.extend(frames.iter().skip(first).cloned());
+        let excess = self.rx_frames.len().saturating_sub(RX_LOG_FRAMES);
+        self.rx_frames.drain(..excess);
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
         if self.cfg.tx_mode == TxMode::Repeat {
             let fwd = self.forwarded(seg);
