@@ -1,0 +1,83 @@
+//! MST reception by a slave: phase, misses, time window (410B §4.1 0AH, 0BH, 4H.5-9,
+//! 15H/16H, 25H.10; §4.2 word 10 NMSTERR).
+
+mod harness;
+
+use harness::*;
+use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
+
+/// A master sending only MSTs (phase `phase`) every 100 µs and a slave expecting
+/// PHAS0 = 4; both blocks are just an end marker.
+fn mst_ring(phase: u16) -> Ring {
+    let mut m = chip(Variant::Sercon816);
+    let mut s = chip(Variant::Sercon816);
+    for c in [&mut m, &mut s] {
+        c.write_ram(0, 16);
+        end_marker(c, 16);
+    }
+    s.write(Register::Phas, 0xFF04);
+    s.write(Register::Jtscyc1, 3);
+    s.write(Register::Jtscyc2, 3);
+    s.write(Register::Thrpt, MSTTCHK);
+    s.write(Register::Ctrl0C, MSTEN);
+    m.write(Register::Phas, 0xFF00 | phase);
+    m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
+    Ring::new(m, s)
+}
+
+#[test]
+fn slave_takes_the_phase_and_syncs_its_cycle() {
+    // 410B §4.1 0BH PHASREC; 3H.6 COMACT while the block runs; no errors.
+    let mut ring = mst_ring(4);
+    ring.run_to(us(250));
+    assert_eq!(ring.slave.read(Register::PhasRec) & 0xFF, 4);
+    let lo = ring.slave.read(Register::IntFlagsLo);
+    // INT_COMBLK0 and INT_COMEND, no PHASERR / MSTEARLY / MSTLATE / MSTMIS.
+    assert_eq!(lo & 0b11_1110_0000, 0, "{lo:04x}");
+    assert_ne!(lo & (1 << 2), 0);
+    assert_ne!(lo & (1 << 4), 0);
+    assert_eq!(ring.slave.read_ram(10), 0);
+}
+
+#[test]
+fn wrong_phase_raises_phaserr_and_phase0_raises_phas0() {
+    // 410B §4.1 4H.6 INT_PHASERR "phase MST errored", 4H.5 INT_PHAS0 "phase MST = 0".
+    let mut ring = mst_ring(3);
+    ring.run_to(us(150));
+    assert_ne!(ring.slave.read(Register::IntFlagsLo) & (1 << 6), 0);
+    let mut ring = mst_ring(0);
+    ring.run_to(us(150));
+    assert_ne!(ring.slave.read(Register::IntFlagsLo) & (1 << 5), 0);
+}
+
+#[test]
+fn two_missing_msts_count_and_raise_mstmis() {
+    // 410B §4.2 NMSTERR "Error counter MST", 4H.9 INT_MSTMIS "MST missing twice".
+    let mut ring = mst_ring(4);
+    ring.drop_master = vec![1];
+    ring.run_to(us(250));
+    assert_eq!(ring.slave.read_ram(10), 1);
+    assert_eq!(ring.slave.read(Register::IntFlagsLo) & (1 << 9), 0);
+    let mut ring = mst_ring(4);
+    ring.drop_master = vec![1, 2];
+    ring.run_to(us(350));
+    assert_eq!(ring.slave.read_ram(10), 2);
+    assert_ne!(ring.slave.read(Register::IntFlagsLo) & (1 << 9), 0);
+}
+
+#[test]
+fn late_and_early_msts_with_msttchk() {
+    // 410B §4.1 25H.10 MSTTCHK, 15H/16H JTSCYC1/2, 4H.7 INT_MSTEARLY, 4H.8 INT_MSTLATE.
+    let mut ring = mst_ring(4);
+    ring.run_to(us(150));
+    assert_eq!(ring.slave.read(Register::IntFlagsLo) & (3 << 7), 0);
+    // The master's next cycle is 10 µs longer: its MST arrives late.
+    ring.master.write(Register::Tscyc0, 110);
+    ring.run_to(us(260));
+    assert_ne!(ring.slave.read(Register::IntFlagsLo) & (1 << 8), 0);
+    let mut ring = mst_ring(4);
+    ring.run_to(us(150));
+    ring.master.write(Register::Tscyc0, 90);
+    ring.run_to(us(260));
+    assert_ne!(ring.slave.read(Register::IntFlagsLo) & (1 << 7), 0);
+}
