@@ -52,7 +52,11 @@ fn phase2_unicast_mdt_is_answered_by_one_at_on_the_816() {
     ring.run_to(us(450));
     assert_eq!(words(&mut ring.slave, 23, 2), vec![0xAAAA, 0x5555]);
     assert_eq!(ats(&ring), 1);
-    let at = ring.log.iter().find(|(m, _)| !*m).map(|(_, t)| t.bytes.clone());
+    let at = ring
+        .log
+        .iter()
+        .find(|(m, _)| !*m)
+        .map(|(_, t)| t.bytes.clone());
     assert_eq!(at, Some(vec![1, 0x34, 0x12, 0x78, 0x56]));
     assert_eq!(ring.slave.read(Register::Thrpt) & FLMDTADR, 0);
     // 410B §4.2.1 EN = 1: the master's header went back to EN = 0 after the start.
@@ -86,7 +90,11 @@ fn val_race(variant: Variant) -> Vec<u8> {
     let w0 = ring.slave.read_ram(25);
     ring.slave.write_ram(25, w0 | (1 << 10));
     ring.run_to(us(90));
-    let at = ring.log.iter().find(|(m, _)| !*m).map(|(_, t)| t.bytes.clone());
+    let at = ring
+        .log
+        .iter()
+        .find(|(m, _)| !*m)
+        .map(|(_, t)| t.bytes.clone());
     let w0 = ring.slave.read_ram(25);
     let mut out = at.unwrap_or_default();
     out.push(u8::from(w0 & (1 << 10) != 0));

@@ -150,7 +150,11 @@ fn telegram_times_follow_trt_after_the_end_of_the_mst() {
     let mst_end_ps = mst.end.as_picos().div_ceil(31_250) * 31_250;
     assert_eq!(mdt.start.as_picos(), mst_end_ps + 5_000_000);
     assert_eq!(mdt.bytes.len(), 17);
-    let at = sent.iter().find(|(m, _)| !*m).map(|(_, t)| t.clone()).unwrap();
+    let at = sent
+        .iter()
+        .find(|(m, _)| !*m)
+        .map(|(_, t)| t.clone())
+        .unwrap();
     // The slave sees the MST 1 µs later; its AT starts 40 µs after that MST's end.
     let slave_mst_end = (mst.end.as_picos() + 1_000_000).div_ceil(31_250) * 31_250;
     assert_eq!(at.start.as_picos(), slave_mst_end + 40_000_000);
