@@ -281,7 +281,6 @@ fn worst_case_bits_bound_the_real_frame() {
 fn captured_writes(idn: u16) -> Option<Vec<u16>> {
     use sercos_wire::line::{self, CaptureFile, Coding, LineConfig, OwnedDecoded, Polarity};
     use sercos_wire::service_transcript::{ServiceOp, TranscriptBuilder};
-    use sercos_wire::telegram::{MstPacket, Origin, TelegramKind, classify};
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../../shared/captures/tc2000r-phaseup.nrzi"
@@ -294,17 +293,8 @@ fn captured_writes(idn: u16) -> Option<Vec<u16>> {
     );
     let mut builder = TranscriptBuilder::new();
     for (i, f) in frames.iter().enumerate() {
-        let OwnedDecoded::Telegram { bytes, .. } = f else {
-            continue;
-        };
-        match classify(bytes, Origin::Master) {
-            Ok(TelegramKind::Mst) => {
-                if let Ok(p) = MstPacket::new_checked(bytes.as_slice()) {
-                    builder.mst(p.phase_bits());
-                }
-            }
-            Ok(TelegramKind::Mdt) => builder.mdt(bytes, i as u64),
-            _ => {}
+        if let OwnedDecoded::Telegram { bytes, .. } = f {
+            builder.master_telegram(bytes, i as u64);
         }
     }
     let entries = builder.finish();

@@ -346,17 +346,8 @@ fn transcript(args: TranscriptArgs) -> anyhow::Result<()> {
     let loaded = load(&args.input)?;
     let mut builder = TranscriptBuilder::new();
     for (i, f) in loaded.frames.iter().enumerate() {
-        let OwnedDecoded::Telegram { bytes, .. } = f else {
-            continue;
-        };
-        match classify(bytes, Origin::Master) {
-            Ok(TelegramKind::Mst) => {
-                if let Ok(p) = MstPacket::new_checked(bytes.as_slice()) {
-                    builder.mst(p.phase_bits());
-                }
-            }
-            Ok(TelegramKind::Mdt) => builder.mdt(bytes, i as u64),
-            _ => {}
+        if let OwnedDecoded::Telegram { bytes, .. } = f {
+            builder.master_telegram(bytes, i as u64);
         }
     }
     let entries = builder.finish();

@@ -25,7 +25,7 @@ use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 
 use crate::idn::{Element, Idn};
-use crate::telegram::ControlWord;
+use crate::telegram::{ControlWord, MstPacket, Origin, TelegramKind, classify};
 
 /// What a transcript entry did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -151,6 +151,20 @@ impl TranscriptBuilder {
                     self.record(drive, cw, info, index);
                 }
             }
+        }
+    }
+
+    /// Feeds one telegram sent by the master (telegram bytes, ADR first, no FCS): an MST sets
+    /// the phase, an MDT is taken as by [`TranscriptBuilder::mdt`]; anything else is ignored.
+    pub fn master_telegram(&mut self, telegram: &[u8], index: u64) {
+        match classify(telegram, Origin::Master) {
+            Ok(TelegramKind::Mst) => {
+                if let Ok(p) = MstPacket::new_checked(telegram) {
+                    self.mst(p.phase_bits());
+                }
+            }
+            Ok(TelegramKind::Mdt) => self.mdt(telegram, index),
+            _ => {}
         }
     }
 
