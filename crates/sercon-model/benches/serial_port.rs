@@ -1,0 +1,76 @@
+//! Line interface speed: a slave receiving a 100-byte MDT from its hint vs. decoding its bits,
+//! and a repeater forwarding it (spec-notes "Serial port": hints, forwarding without per-bit
+//! work).
+
+use criterion::{Criterion, black_box, criterion_group, criterion_main};
+use sercon_model::config::Straps;
+use sercon_model::serial_port::LineSegment;
+use sercon_model::{Chip, ChipConfig};
+use sercos_wire::time::{Duration, Instant};
+
+fn chip(repon: bool) -> Chip {
+    let mut cfg = ChipConfig::sercon816();
+    cfg.straps = Straps {
+        sbaud: false,
+        sbaud16: false,
+        tm0: repon,
+        tm1: repon,
+    };
+    Chip::new(cfg)
+}
+
+fn telegram_segments() -> Vec<LineSegment> {
+    let mut master = chip(false);
+    let mdt: Vec<u8> = (0..100u8).collect();
+    let at = Instant::ZERO + Duration::from_micros(2);
+    let end = master.transmit_telegram(at, &mdt).unwrap_or(at);
+    master.advance_to(end);
+    let mut out = Vec::new();
+    master.take_line_output(&mut out);
+    out
+}
+
+fn bench(c: &mut Criterion) {
+    let segs = telegram_segments();
+    let stripped: Vec<_> = segs
+        .iter()
+        .cloned()
+        .map(|mut s| {
+            s.hint = None;
+            s
+        })
+        .collect();
+    c.bench_function("receive 100-byte MDT from hint", |b| {
+        b.iter(|| {
+            let mut slave = chip(false);
+            for s in &segs {
+                slave.line_input(black_box(s.clone()));
+            }
+            slave
+        })
+    });
+    c.bench_function("receive 100-byte MDT by decoding", |b| {
+        b.iter(|| {
+            let mut slave = chip(false);
+            for s in &stripped {
+                slave.line_input(black_box(s.clone()));
+            }
+            slave
+        })
+    });
+    c.bench_function("repeat 100-byte MDT", |b| {
+        b.iter(|| {
+            let mut slave = chip(true);
+            let mut out = Vec::new();
+            for s in &segs {
+                slave.line_input(black_box(s.clone()));
+            }
+            slave.advance_to(Instant::ZERO + Duration::from_micros(60));
+            slave.take_line_output(&mut out);
+            out
+        })
+    });
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
