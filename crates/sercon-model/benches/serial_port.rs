@@ -2,11 +2,15 @@
 //! and a repeater forwarding it (spec-notes "Serial port": hints, forwarding without per-bit
 //! work).
 
-use criterion::{Criterion, black_box, criterion_group, criterion_main};
+// criterion_group! generates an undocumented pub fn.
+#![allow(missing_docs)]
+
+use criterion::{Criterion, criterion_group, criterion_main};
 use sercon_model::config::Straps;
 use sercon_model::serial_port::LineSegment;
 use sercon_model::{Chip, ChipConfig};
 use sercos_wire::time::{Duration, Instant};
+use std::hint::black_box;
 
 fn chip(repon: bool) -> Chip {
     let mut cfg = ChipConfig::sercon816();
