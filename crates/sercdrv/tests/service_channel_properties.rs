@@ -71,8 +71,9 @@ proptest! {
         params in proptest::collection::vec(param(), 4),
         requests in proptest::collection::vec((1u8..=2, request()), 1..8),
         buffer in 1u16..40,
+        ninfo in 1u8..=4,
     ) {
-        let mut ring = Ring::new(Variant::Sercon816, 2, buffer);
+        let mut ring = Ring::with_ninfo(Variant::Sercon816, 2, buffer, ninfo);
         for station in &mut ring.stations {
             for (idn, p) in [ONE_WORD, NAMED, AT_LIST, COMMAND].into_iter().zip(&params) {
                 station.store.params.insert(idn, p.clone());

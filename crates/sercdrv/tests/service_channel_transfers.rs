@@ -316,3 +316,42 @@ fn invalid_requests_fail_at_once() {
     assert_eq!(words.len(), 52);
     assert_eq!(words[0], 100);
 }
+
+// 410B §4.2.4 NINFO_WRITE / NINFO_READ (1 to 4 info words per step): the same transfers
+// with four words per record take a quarter of the steps; the slave drops the zeros that
+// fill the last step (spec-notes "Driver service channel").
+#[test]
+fn four_info_words_per_record() {
+    let mut one = Ring::new(Variant::Sercon816, 1, 251);
+    one.transact(1, Request::read(NAMED, Element::Name))
+        .result
+        .expect("name");
+    let mut four = Ring::with_ninfo(Variant::Sercon816, 1, 251, 4);
+    let name = four.transact(1, Request::read(NAMED, Element::Name));
+    assert_eq!(name.result.expect("name").words, text_words(NAME60));
+    assert!(
+        four.cycles * 2 < one.cycles,
+        "{} vs {}",
+        four.cycles,
+        one.cycles
+    );
+    four.transact(1, Request::write_value(ONE_WORD, vec![42]))
+        .result
+        .expect("one word in a 4-word step");
+    assert_eq!(four.station(1).store.params[&ONE_WORD].value, vec![42]);
+    four.transact(1, Request::write_list(AT_LIST, &[1, 2, 3]))
+        .result
+        .expect("list");
+    assert_eq!(
+        four.station(1).store.params[&AT_LIST].value,
+        vec![6, 6, 1, 2, 3]
+    );
+    let back = four.transact(1, Request::read_value(TWO_WORDS));
+    assert_eq!(back.result.expect("two words").words, vec![0x5678, 0x1234]);
+    // Really too long still fails: 3 words (padded to 4) to a one-word value.
+    let done = four.transact(1, Request::write_value(ONE_WORD, vec![1, 2, 3]));
+    assert_eq!(
+        done.result.expect_err("too long").kind,
+        ErrorKind::Drive(ServiceError::OperationDataTooLong)
+    );
+}

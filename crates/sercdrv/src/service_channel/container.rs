@@ -108,6 +108,25 @@ impl ContainerSlot {
         self.ninfo
     }
 
+    /// Buffer words one fill moves: the buffer length rounded down to whole steps of NINFO
+    /// words (at least one step, or the buffer if it is shorter), because the chip moves
+    /// the pointers by NINFO per step (410B §4.2.4 NINFO; spec-notes "Service containers").
+    pub fn step_capacity(&self) -> usize {
+        let buffer = usize::from(self.buffer_words);
+        let step = usize::from(self.ninfo.count());
+        if buffer >= step {
+            buffer - buffer % step
+        } else {
+            buffer
+        }
+    }
+
+    /// Offset of the last word of [`step_capacity`](Self::step_capacity) words.
+    pub(super) fn step_last(&self) -> u8 {
+        let count = u8::try_from(self.step_capacity()).unwrap_or(u8::MAX);
+        BUF.saturating_add(count.saturating_sub(1))
+    }
+
     /// Offset of the last buffer word.
     pub(super) fn buffer_last(&self) -> u8 {
         // buffer_words ≤ 251, so 5 + 251 − 1 = 255 fits.

@@ -260,7 +260,8 @@ impl<R: ContainerRouter> ServiceChannelMaster<R> {
                 waiting.push_back(pending);
                 continue;
             }
-            let transfer = match Transfer::plan(&pending.request) {
+            let ninfo = self.ninfo_for(pending.drive);
+            let transfer = match Transfer::plan(&pending.request, ninfo) {
                 Ok(transfer) => transfer,
                 Err(kind) => {
                     done.push(failed(&pending, pending.request.element(), kind));
@@ -291,6 +292,13 @@ impl<R: ContainerRouter> ServiceChannelMaster<R> {
             }
         }
         self.pending = waiting;
+    }
+
+    /// NINFO of the container a request of `drive` would get (1 if none).
+    fn ninfo_for(&self, drive: DriveAddress) -> u8 {
+        self.free_container(drive)
+            .and_then(|i| self.containers.get(i))
+            .map_or(1, |c| c.slot.ninfo().count())
     }
 
     fn free_container(&self, drive: DriveAddress) -> Option<usize> {

@@ -110,7 +110,7 @@ impl ServiceChannelSlave {
         s.pointers.wrdatpt = BUF;
         s.pointers.wrdatlast = BUF;
         s.pointers.rddatpt = BUF;
-        s.pointers.rddatlast = self.slot.buffer_last();
+        s.pointers.rddatlast = self.slot.step_last();
         self.slot.store_all(bus, s.to_words());
     }
 
@@ -172,7 +172,7 @@ impl ServiceChannelSlave {
                 self.transmission.received.extend_from_slice(&words);
             }
             s.pointers.rddatpt = BUF;
-            s.pointers.rddatlast = self.slot.buffer_last();
+            s.pointers.rddatlast = self.slot.step_last();
             if s.int_end_mdt {
                 self.finish_write(bus, store, &mut s, &mut events);
             }
@@ -225,7 +225,7 @@ impl ServiceChannelSlave {
         let element = Element::from_bits(s.elem);
         if s.ls {
             s.pointers.rddatpt = BUF;
-            s.pointers.rddatlast = self.slot.buffer_last();
+            s.pointers.rddatlast = self.slot.step_last();
             if element != Element::Idn && self.open.is_none() {
                 // sercos-facts.md: 0001H service channel not open.
                 self.refuse(bus, s, ServiceError::ServiceChannelNotOpen, events);
@@ -253,7 +253,7 @@ impl ServiceChannelSlave {
     /// Puts the next words of the element into the write buffer. Past the end the master
     /// gets zeros (spec-notes "Driver service channel": a read longer than the element).
     fn offer<B: SerconBus + ?Sized>(&mut self, bus: &mut B, s: &mut ScSlave) {
-        let capacity = usize::from(self.slot.buffer_words());
+        let capacity = self.slot.step_capacity();
         let t = &mut self.transmission;
         let rest = t.outgoing.get(t.offered..).unwrap_or_default();
         let chunk: Vec<u16> = if rest.is_empty() {
@@ -304,6 +304,7 @@ impl ServiceChannelSlave {
             self.refuse(bus, s, ServiceError::ServiceChannelNotOpen, events);
             return;
         };
+        let words = without_padding(store, idn, element, words, self.slot.ninfo().count());
         match store.write_element(idn, element, &words) {
             Ok(()) => events.push(SlaveEvent::Written { idn, element }),
             Err(error) => self.refuse(bus, s, error, events),
@@ -342,4 +343,46 @@ fn too_long(element: Element) -> ServiceError {
         None if element == Element::OperationData => ServiceError::OperationDataTooLong,
         None => ServiceError::InvalidAccessToElement1,
     }
+}
+
+/// Drops the zeros the master's chip sent after the last word when a step carries more
+/// than one info word (410B §4.2.4 NINFO: the last step of a write is filled up to NINFO
+/// words, spec-notes "Service containers": positions after the last are sent as 0). Only
+/// trailing zeros beyond the element's length, and at most NINFO − 1 of them, are dropped,
+/// so data really too long still reaches the store (and is refused there).
+fn without_padding<S: IdnStore + ?Sized>(
+    store: &S,
+    idn: Idn,
+    element: Element,
+    mut words: Vec<u16>,
+    ninfo: u8,
+) -> Vec<u16> {
+    if ninfo <= 1 {
+        return words;
+    }
+    // sercos-facts.md "IDNs": the length of each element; "Variable-length data".
+    let variable = |words: &[u16]| 2 + usize::from(words.first().copied().unwrap_or(0)).div_ceil(2);
+    let expected = match element {
+        Element::ServiceChannelClosed | Element::Idn => 1,
+        Element::Attribute => 2,
+        Element::Name | Element::Unit => variable(&words),
+        Element::Minimum | Element::Maximum | Element::OperationData => {
+            let attribute = store.read_element(idn, Element::Attribute).ok().map(|w| {
+                sercos_wire::attribute::Attribute::from_words([
+                    w.first().copied().unwrap_or(0),
+                    w.get(1).copied().unwrap_or(0),
+                ])
+            });
+            match attribute.and_then(|a| a.fixed_words()) {
+                Some(n) => n,
+                None => variable(&words),
+            }
+        }
+    };
+    let mut dropped = 0;
+    while words.len() > expected && dropped + 1 < usize::from(ninfo) && words.last() == Some(&0) {
+        words.pop();
+        dropped += 1;
+    }
+    words
 }

@@ -75,10 +75,14 @@ pub(super) struct Transfer {
     attribute: Option<Attribute>,
     /// The element the request reads or writes.
     target: Element,
+    /// Words read for the length words of variable data (a whole step).
+    header: usize,
+    /// Words variable data has in all (length words and current length), once known.
+    expected: Option<usize>,
 }
 
 /// The stage that reads `element` as `length` says (after the IDN is open).
-fn read_stage(element: Element, length: ReadLength) -> Result<Stage, ErrorKind> {
+fn read_stage(element: Element, length: ReadLength, header: usize) -> Result<Stage, ErrorKind> {
     let (total, then) = match (length, element) {
         (_, Element::ServiceChannelClosed) => {
             return Err(ErrorKind::InvalidRequest("element 0 has no data"));
@@ -87,12 +91,12 @@ fn read_stage(element: Element, length: ReadLength) -> Result<Stage, ErrorKind> 
             return Err(ErrorKind::InvalidRequest("a read of zero words"));
         }
         (ReadLength::Words(n), _) => (usize::from(n), AfterRead::Finish),
-        (ReadLength::Variable, _) => (2, AfterRead::Rest),
+        (ReadLength::Variable, _) => (header, AfterRead::Rest),
         // sercos-facts.md "IDNs": element 1 is the IDN (one word), 3 the attribute (32 bit),
         // 2 and 4 text (variable-length data).
         (ReadLength::Auto, Element::Idn) => (1, AfterRead::Finish),
         (ReadLength::Auto, Element::Attribute) => (2, AfterRead::Finish),
-        (ReadLength::Auto, Element::Name | Element::Unit) => (2, AfterRead::Rest),
+        (ReadLength::Auto, Element::Name | Element::Unit) => (header, AfterRead::Rest),
         (ReadLength::Auto, Element::Minimum | Element::Maximum | Element::OperationData) => {
             return Ok(Stage::Read {
                 element: Element::Attribute,
@@ -114,13 +118,19 @@ fn read_stage(element: Element, length: ReadLength) -> Result<Stage, ErrorKind> 
 
 impl Transfer {
     /// The stages of `request`: open the IDN (write element 1), then the read or write.
-    pub(super) fn plan(request: &Request) -> Result<Transfer, ErrorKind> {
+    ///
+    /// With `ninfo` info words per step the length words are read as one whole step
+    /// (`max(2, NINFO)` words): the slave's chip moves on by NINFO words per step, so a
+    /// read continued in the same transmission must stop on a step boundary (spec-notes
+    /// "Driver service channel").
+    pub(super) fn plan(request: &Request, ninfo: u8) -> Result<Transfer, ErrorKind> {
+        let header = usize::from(ninfo).max(2);
         let (idn, body) = match request {
             Request::Read {
                 idn,
                 element,
                 length,
-            } => (*idn, read_stage(*element, *length)?),
+            } => (*idn, read_stage(*element, *length, header)?),
             Request::Write {
                 idn,
                 element,
@@ -152,6 +162,8 @@ impl Transfer {
             words: Vec::new(),
             attribute: None,
             target: request.element(),
+            header,
+            expected: None,
         })
     }
 
@@ -170,7 +182,7 @@ impl Transfer {
         bus: &mut B,
         mut m: ScMaster,
     ) {
-        let capacity = usize::from(slot.buffer_words());
+        let capacity = slot.step_capacity();
         let last_of = |count: usize| {
             // count ≤ buffer_words ≤ 251: BUF + count − 1 ≤ 255.
             let count = u8::try_from(count).unwrap_or(u8::MAX);
@@ -302,7 +314,9 @@ impl Transfer {
                     // sercos-facts.md "Variable-length data": the first word is the
                     // current length in bytes.
                     let bytes = usize::from(self.words.first().copied().unwrap_or(0));
-                    let rest = bytes.div_ceil(2);
+                    let expected = 2 + bytes.div_ceil(2);
+                    self.expected = Some(expected);
+                    let rest = expected.saturating_sub(self.words.len());
                     if rest == 0 {
                         return Ok(None);
                     }
@@ -319,7 +333,7 @@ impl Transfer {
                     if attribute.data_length().is_variable() {
                         Ok(Some(Stage::Read {
                             element: target,
-                            total: 2,
+                            total: self.header,
                             end: false,
                             then: AfterRead::Rest,
                         }))
@@ -339,7 +353,11 @@ impl Transfer {
     }
 
     fn response(&mut self) -> Response {
-        let words = std::mem::take(&mut self.words);
+        let mut words = std::mem::take(&mut self.words);
+        if let Some(expected) = self.expected {
+            // Words of the last whole step after the variable data's end.
+            words.truncate(expected);
+        }
         let attribute = self.attribute.or_else(|| {
             // The element read was the attribute itself.
             (self.target == Element::Attribute && words.len() == 2).then(|| {

@@ -13,6 +13,7 @@ use sercdrv::service_channel::{
     Ticket, Wiring,
 };
 use sercon_model::service_container::{ScMode, on_cycle, on_receive, on_transmit};
+use sercon_regs::ram::service::NInfo;
 use sercon_regs::{SerconBus, Variant};
 use sercos_wire::address::DriveAddress;
 use sercos_wire::attribute::{Attribute, DataLength, DisplayFormat};
@@ -279,6 +280,8 @@ pub struct Ring {
     pub completions: Vec<Completion>,
     /// Most containers busy at once.
     pub max_running: usize,
+    /// Words per record: the control or status word and NINFO info words.
+    pub record_words: usize,
 }
 
 pub fn drive(n: u8) -> DriveAddress {
@@ -289,6 +292,12 @@ impl Ring {
     /// `drives` drives; master container n (at 100H + 100H·n) serves drive n + 1; each
     /// slave's container 0 sits at 200H. `buffer` words per buffer.
     pub fn new(variant: Variant, drives: u8, buffer: u16) -> Ring {
+        Ring::with_ninfo(variant, drives, buffer, 1)
+    }
+
+    /// As [`Ring::new`] with `ninfo` info words per record on both sides.
+    pub fn with_ninfo(variant: Variant, drives: u8, buffer: u16, ninfo: u8) -> Ring {
+        let ninfo = NInfo::from_count(ninfo).expect("1-4");
         let mut slots = Vec::new();
         let mut stations = Vec::new();
         let mut master_nsv = Vec::new();
@@ -296,10 +305,14 @@ impl Ring {
             let address = drive(i + 1);
             let nsv = i;
             let base = 0x040 + 0x70 * u16::from(i);
-            let slot = ContainerSlot::new(variant, nsv, base, buffer.min(0x6B)).expect("slot");
+            let slot = ContainerSlot::new(variant, nsv, base, buffer.min(0x6B))
+                .expect("slot")
+                .with_ninfo(ninfo);
             slots.push((slot, Wiring::Drive(address)));
             master_nsv.push(nsv);
-            let sslot = ContainerSlot::new(variant, 0, 0x200, buffer).expect("slot");
+            let sslot = ContainerSlot::new(variant, 0, 0x200, buffer)
+                .expect("slot")
+                .with_ninfo(ninfo);
             let mut bus = RamBus::new(variant);
             let mut server = ServiceChannelSlave::new(sslot);
             server.init(&mut bus);
@@ -330,6 +343,7 @@ impl Ring {
             cycles: 0,
             completions: Vec::new(),
             max_running: 0,
+            record_words: 1 + usize::from(ninfo.count()),
         }
     }
 
@@ -337,7 +351,8 @@ impl Ring {
     pub fn cycle(&mut self) {
         let v = self.variant;
         for (station, &mnsv) in self.stations.iter_mut().zip(&self.master_nsv) {
-            let mut mdt = vec![0xE000u16, 0];
+            let mut mdt = vec![0u16; self.record_words];
+            mdt[0] = 0xE000;
             let out = on_transmit(&mut self.master.ram, v, mnsv, ScMode::Master, &mut mdt);
             raise(&mut self.master, mnsv, out.int_sc);
             let out = on_receive(
@@ -349,7 +364,8 @@ impl Ring {
                 true,
             );
             raise(&mut station.bus, station.nsv, out.int_sc);
-            let mut at = vec![0xC000u16, 0];
+            let mut at = vec![0u16; self.record_words];
+            at[0] = 0xC000;
             on_transmit(&mut station.bus.ram, v, station.nsv, ScMode::Slave, &mut at);
             if !station.silent {
                 let out = on_receive(&mut self.master.ram, v, mnsv, ScMode::Master, &at, true);
