@@ -54,7 +54,7 @@ fn decoded_frames_are_logged_with_their_line_time_and_fcs_verdict() {
         ))
         .unwrap();
     });
-    let text = String::from_utf8(log.into_inner()).unwrap();
+    let text = String::from_utf8(log.finish().unwrap()).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), 3, "{text}");
 

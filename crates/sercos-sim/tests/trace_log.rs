@@ -67,7 +67,7 @@ fn log(format: LogFormat) -> String {
         log.record(&record).unwrap();
     }
     assert_eq!(log.lines(), records().len() as u64);
-    String::from_utf8(log.into_inner()).unwrap()
+    String::from_utf8(log.finish().unwrap()).unwrap()
 }
 
 #[test]
@@ -181,7 +181,7 @@ fn an_empty_frame_is_logged_without_panicking() {
         &[],
     ))
     .unwrap();
-    let text = String::from_utf8(log.into_inner()).unwrap();
+    let text = String::from_utf8(log.finish().unwrap()).unwrap();
     assert_eq!(
         text,
         "0.000000000000 seg 0 slave - broken len 0 fcs - error too-short\n\

@@ -52,7 +52,7 @@ fn pcap_header_packets_and_pseudo_header() {
         ))
         .unwrap();
     assert_eq!(trace.packets(), 2);
-    let bytes = trace.into_inner();
+    let bytes = trace.finish().unwrap();
 
     let mut reader = PcapReader::new(bytes.as_slice()).unwrap();
     let header = reader.header();
@@ -116,7 +116,7 @@ fn pcapng_has_one_interface_per_segment() {
             )
             .unwrap();
     }
-    let bytes = trace.into_inner();
+    let bytes = trace.finish().unwrap();
     let mut reader = PcapNgReader::new(bytes.as_slice()).unwrap();
     let mut interfaces = 0;
     let mut packets = Vec::new();

@@ -132,7 +132,7 @@ fn write_sample(path: &Path) -> (ControlWord, StatusWord, u16) {
         ))
         .unwrap();
 
-    std::fs::write(path, trace.into_inner()).expect("write pcap");
+    std::fs::write(path, trace.finish().unwrap()).expect("write pcap");
     (cw, sw, computed)
 }
 

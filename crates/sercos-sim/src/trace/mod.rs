@@ -20,7 +20,7 @@
 //! let mut log = TelegramLog::new(Vec::new(), LogFormat::Text);
 //! // An MST in phase 4: ADR 255, phase byte 04H (sercos-telegrams.md, MST).
 //! log.record(&TraceRecord::telegram(Instant::ZERO, SegmentId(0), Origin::Master, &[0xFF, 0x04]))?;
-//! let text = String::from_utf8(log.into_inner()).expect("the log is text");
+//! let text = String::from_utf8(log.finish()?).expect("the log is text");
 //! assert_eq!(text, "0.000000000000 seg 0 master MST adr 255 phase 4 byte 04H len 2 fcs ok\n");
 //! # Ok::<(), sercos_sim::trace::TraceError>(())
 //! ```

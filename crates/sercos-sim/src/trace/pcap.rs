@@ -73,11 +73,10 @@ impl<W: Write> PcapTrace<W> {
     }
 
     /// Flushes and returns the output.
-    pub fn into_inner(self) -> W {
+    pub fn finish(self) -> Result<W, TraceError> {
         let mut out = self.writer.into_writer();
-        // A flush error would already have shown on the write that caused it.
-        let _ = out.flush();
-        out
+        out.flush()?;
+        Ok(out)
     }
 }
 
@@ -135,12 +134,16 @@ impl<W: Write> PcapNgTrace<W> {
         self.packets
     }
 
+    /// Flushes the output.
+    pub fn flush(&mut self) -> Result<(), TraceError> {
+        Ok(self.writer.get_mut().flush()?)
+    }
+
     /// Flushes and returns the output.
-    pub fn into_inner(self) -> W {
+    pub fn finish(self) -> Result<W, TraceError> {
         let mut out = self.writer.into_inner();
-        // A flush error would already have shown on the write that caused it.
-        let _ = out.flush();
-        out
+        out.flush()?;
+        Ok(out)
     }
 
     /// The interface number of a segment, describing it first if it is new.

@@ -70,11 +70,15 @@ impl<W: Write> TelegramLog<W> {
         self.lines
     }
 
+    /// Flushes the output.
+    pub fn flush(&mut self) -> Result<(), TraceError> {
+        Ok(self.out.flush()?)
+    }
+
     /// Flushes and returns the output.
-    pub fn into_inner(mut self) -> W {
-        // A flush error would already have shown on the write that caused it.
-        let _ = self.out.flush();
-        self.out
+    pub fn finish(mut self) -> Result<W, TraceError> {
+        self.out.flush()?;
+        Ok(self.out)
     }
 }
 
