@@ -283,6 +283,23 @@ impl<E> EventQueue<E> {
         }
     }
 
+    /// Runs every event up to and including `limit` in order, handing each to `handler`
+    /// together with the queue (so that it can schedule and cancel), then moves
+    /// [`now`](Self::now) to `limit`, skipping the idle time after the last event. Stops at
+    /// the handler's first error, with `now` at that event's time. Returns the events run.
+    pub fn run_until<X, F>(&mut self, limit: Instant, mut handler: F) -> Result<u64, X>
+    where
+        F: FnMut(&mut Self, Event<E>) -> Result<(), X>,
+    {
+        let mut count = 0;
+        while let Some(event) = self.pop_until(limit) {
+            count += 1;
+            handler(self, event)?;
+        }
+        self.advance_to(limit);
+        Ok(count)
+    }
+
     /// Moves [`now`](Self::now) forward to `time` without running anything; does nothing if
     /// `time` is not later than now or lies after the next pending event (events are never
     /// skipped). Returns whether the time moved.

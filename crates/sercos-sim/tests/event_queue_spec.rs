@@ -148,3 +148,50 @@ fn clear_drops_everything_and_keeps_time() {
         .unwrap();
     assert_eq!(queue.pop_next().unwrap().payload, 'c');
 }
+
+#[test]
+fn run_until_runs_events_scheduled_by_handlers_and_skips_to_the_limit() {
+    // A component that re-arms itself every 1 µs (one SERCOS cycle would be 1 ms; the rule
+    // is the same): DESIGN.md, components say when they next need to run.
+    let mut queue = EventQueue::new();
+    queue
+        .schedule(Instant::from_picos(0), ComponentId(0), 0u32)
+        .unwrap();
+    let period = Duration::from_micros(1);
+    let mut seen = Vec::new();
+    let ran = queue
+        .run_until(Instant::from_picos(5_500_000), |queue, event| {
+            seen.push((event.time.as_picos(), event.payload));
+            queue.schedule(
+                event.time.saturating_add(period),
+                event.target,
+                event.payload + 1,
+            )?;
+            Ok::<(), ScheduleError>(())
+        })
+        .unwrap();
+    assert_eq!(ran, 6);
+    assert_eq!(seen.last(), Some(&(5_000_000, 5)));
+    assert_eq!(queue.now(), Instant::from_picos(5_500_000));
+    assert_eq!(queue.peek_time(), Some(Instant::from_picos(6_000_000)));
+}
+
+#[test]
+fn run_until_stops_at_the_first_handler_error() {
+    let mut queue = EventQueue::new();
+    for t in [10u64, 20, 30] {
+        queue
+            .schedule(Instant::from_picos(t), ComponentId(0), t)
+            .unwrap();
+    }
+    let result = queue.run_until(Instant::from_picos(100), |_, event| {
+        if event.payload == 20 {
+            Err("stop")
+        } else {
+            Ok(())
+        }
+    });
+    assert_eq!(result, Err("stop"));
+    assert_eq!(queue.now(), Instant::from_picos(20));
+    assert_eq!(queue.len(), 1);
+}

@@ -30,7 +30,8 @@ fn require_tshark() {
     }
 }
 
-/// Runs tshark with the dissector on `file`, printing `fields` one line per packet.
+/// Runs tshark with the dissector on `file`, printing `fields` one line per packet, and the
+/// expert messages (`_ws.expert.message`) as one more, last column.
 fn tshark_fields(file: &Path, prefs: &[&str], fields: &[&str]) -> Vec<Vec<String>> {
     require_tshark();
     let script = format!("lua_script:{}", dissector().display());
@@ -52,6 +53,8 @@ fn tshark_fields(file: &Path, prefs: &[&str], fields: &[&str]) -> Vec<Vec<String
     for field in fields {
         command.args(["-e", field]);
     }
+    // One more column, always last: the expert messages, where a Lua error would show.
+    command.args(["-e", "_ws.expert.message"]);
     let out = command.output().expect("tshark runs");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "tshark failed: {stderr}");
@@ -62,7 +65,12 @@ fn tshark_fields(file: &Path, prefs: &[&str], fields: &[&str]) -> Vec<Vec<String
     String::from_utf8(out.stdout)
         .expect("tshark prints text")
         .lines()
-        .map(|line| line.split(';').map(str::to_owned).collect())
+        .map(|line| {
+            let row: Vec<String> = line.split(';').map(str::to_owned).collect();
+            let expert = row.last().cloned().unwrap_or_default();
+            assert!(!expert.contains("Lua Error"), "dissector error: {expert}");
+            row
+        })
         .collect()
 }
 
@@ -186,8 +194,8 @@ fn tshark_decodes_mst_phase() {
     write_sample(&file);
     let rows = tshark_fields(&file, &[], &["sercos2.mst.phase", "sercos2.mst.phase_byte"]);
     // sercos-telegrams.md, MST: bits 2-0 = phase 4.
-    assert_eq!(rows[0], ["4", "0x04"]);
-    assert_eq!(rows[1], ["", ""]);
+    assert_eq!(rows[0][..2], ["4", "0x04"]);
+    assert_eq!(rows[1][..2], ["", ""]);
 }
 
 #[test]
@@ -258,7 +266,6 @@ fn tshark_decodes_status_word_bits_and_bad_fcs() {
             "sercos2.at.sw.error",
             "sercos2.at.sw.ahs",
             "sercos2.data_block",
-            "_ws.expert.message",
         ],
     );
     let truthy = |s: &str| s == "1" || s == "True";
@@ -273,4 +280,47 @@ fn tshark_decodes_status_word_bits_and_bad_fcs() {
     }
     assert!(!rows[2][8].contains("FCS mismatch"), "{:?}", rows[2]);
     assert!(rows[3][8].contains("FCS mismatch"), "{:?}", rows[3]);
+}
+
+#[test]
+fn tshark_shows_broken_and_malformed_frames_without_lua_errors() {
+    let file = sample_file("trace_tshark_broken.pcap");
+    let mut trace = PcapTrace::new(Vec::new(), None).unwrap();
+    // An aborted frame (seven 1s, ERRATA, Telegrams: frame): the bytes before the abort.
+    trace
+        .record(&TraceRecord::line_error(
+            Instant::ZERO,
+            SegmentId(0),
+            Origin::Master,
+            LineError::Abort { start: 0, at: 40 },
+            &[0xFF, 0x12],
+        ))
+        .unwrap();
+    // An MDT too short for a data record (sercos-telegrams.md, Data Record: 4 bytes at least).
+    trace
+        .record(&TraceRecord::telegram(
+            Instant::from_picos(1_000_000),
+            SegmentId(0),
+            Origin::Master,
+            &[4, 1, 2],
+        ))
+        .unwrap();
+    std::fs::write(&file, trace.finish().unwrap()).unwrap();
+    let rows = tshark_fields(
+        &file,
+        &[],
+        &[
+            "sercos2.line_error",
+            "sercos2.kind",
+            "sercos2.received",
+            "sercos2.malformed",
+        ],
+    );
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    assert_eq!(rows[0][0], "2", "abort");
+    assert_eq!(rows[0][1], "", "a broken frame has no kind");
+    assert_eq!(rows[0][2], "ff12");
+    assert!(rows[0][4].contains("Frame broken"), "{:?}", rows[0]);
+    assert_eq!(rows[1][1], "MDT");
+    assert_eq!(rows[1][3], "0102");
 }
