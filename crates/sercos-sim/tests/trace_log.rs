@@ -188,3 +188,58 @@ fn an_empty_frame_is_logged_without_panicking() {
          0.000000000000 seg 0 slave - malformed len 0 fcs ok\n"
     );
 }
+
+mod any_input {
+    use proptest::prelude::*;
+    use sercos_sim::trace::{LogFormat, SegmentId, TelegramLog, TraceRecord, TraceSink};
+    use sercos_wire::line::LineError;
+    use sercos_wire::telegram::Origin;
+    use sercos_wire::time::Instant;
+
+    fn error() -> impl Strategy<Value = Option<LineError>> {
+        prop_oneof![
+            Just(None),
+            (any::<u16>(), any::<u16>()).prop_map(|(received, computed)| Some(
+                LineError::FcsMismatch {
+                    start: 0,
+                    end: 0,
+                    received,
+                    computed
+                }
+            )),
+            Just(Some(LineError::Abort { start: 0, at: 0 })),
+            Just(Some(LineError::TooLong { start: 0, at: 0 })),
+        ]
+    }
+
+    proptest! {
+        /// Any bytes from either origin, good or in error, give exactly one line in each
+        /// format, and the JSON line parses (no panics from input: PREAMBLE ground rules).
+        #[test]
+        fn any_record_gives_one_valid_line(
+            bytes in prop::collection::vec(any::<u8>(), 0..40),
+            slave in any::<bool>(),
+            time in any::<u64>(),
+            segment in any::<u16>(),
+            error in error(),
+        ) {
+            let origin = if slave { Origin::Slave } else { Origin::Master };
+            let record = match error {
+                None => TraceRecord::telegram(Instant::from_picos(time), SegmentId(segment), origin, &bytes),
+                Some(error) => TraceRecord::line_error(Instant::from_picos(time), SegmentId(segment), origin, error, &bytes),
+            };
+            for format in [LogFormat::Text, LogFormat::JsonLines] {
+                let mut log = TelegramLog::new(Vec::new(), format);
+                log.record(&record).unwrap();
+                let text = String::from_utf8(log.finish().unwrap()).unwrap();
+                prop_assert_eq!(text.matches('\n').count(), 1);
+                prop_assert!(text.ends_with('\n'));
+                if format == LogFormat::JsonLines {
+                    let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+                    prop_assert_eq!(value["t_ps"].as_u64(), Some(time));
+                    prop_assert_eq!(value["len"].as_u64(), Some(bytes.len() as u64));
+                }
+            }
+        }
+    }
+}
