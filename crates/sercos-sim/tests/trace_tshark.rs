@@ -10,7 +10,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use sercos_sim::trace::{PcapTrace, SegmentId, TraceRecord, TraceSink};
+use sercos_sim::trace::{PcapNgTrace, PcapTrace, SegmentId, TraceRecord, TraceSink};
 use sercos_wire::line::{LineError, fcs};
 use sercos_wire::telegram::{ControlWord, Origin, ReadyToOperate, StatusWord};
 use sercos_wire::time::{BitRate, Instant};
@@ -323,4 +323,38 @@ fn tshark_shows_broken_and_malformed_frames_without_lua_errors() {
     assert!(rows[0][4].contains("Frame broken"), "{:?}", rows[0]);
     assert_eq!(rows[1][1], "MDT");
     assert_eq!(rows[1][3], "0102");
+}
+
+#[test]
+fn tshark_reads_pcapng_with_one_interface_per_segment() {
+    let file = sample_file("trace_tshark_segments.pcapng");
+    let mut trace = PcapNgTrace::new(Vec::new(), None).unwrap();
+    // The MST passes segment 0, then segment 1 of the ring (sercos-telegrams.md, MST).
+    for (ns, segment) in [(0u64, 0u16), (500, 1)] {
+        trace
+            .record(
+                &TraceRecord::telegram(
+                    Instant::from_picos(ns * 1000),
+                    SegmentId(segment),
+                    Origin::Master,
+                    &[0xFF, 0x02],
+                )
+                .with_bit_rate(BitRate::Mbit16),
+            )
+            .unwrap();
+    }
+    std::fs::write(&file, trace.finish().unwrap()).unwrap();
+    let rows = tshark_fields(
+        &file,
+        &[],
+        &[
+            "frame.interface_id",
+            "sercos2.segment",
+            "sercos2.mst.phase",
+            "sercos2.bit_rate",
+        ],
+    );
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    assert_eq!(rows[0][..4], ["0", "0", "2", "16"]);
+    assert_eq!(rows[1][..4], ["1", "1", "2", "16"]);
 }
