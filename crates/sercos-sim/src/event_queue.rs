@@ -183,12 +183,15 @@ impl<E> EventQueue<E> {
             });
         }
         let seq = self.next_seq;
-        let slot = match self.free.pop() {
-            Some(slot) => {
-                if let Some(entry) = self.slots.get_mut(slot as usize) {
-                    entry.seq = seq;
-                    entry.payload = Some(payload);
-                }
+        // A freed slot is reused; free slots always index the table (it never shrinks).
+        let reused = self
+            .free
+            .pop()
+            .and_then(|slot| Some((slot, self.slots.get_mut(slot as usize)?)));
+        let slot = match reused {
+            Some((slot, entry)) => {
+                entry.seq = seq;
+                entry.payload = Some(payload);
                 slot
             }
             None => {
