@@ -21,6 +21,7 @@ pub mod access;
 pub mod bus;
 pub mod byte_bus;
 pub mod error;
+pub mod host;
 pub mod ram;
 pub mod register;
 pub mod value;
