@@ -16,6 +16,19 @@ pub struct Straps {
     pub tm1: bool,
 }
 
+impl Straps {
+    /// The straps of a board in normal operation: TM0 = TM1 = 1 (no test signal), SBAUD =
+    /// pin 28 = 0. The datasheet's inputs have pull-ups (410B §3.3 I_IL) and TM0 = TM1 = 0
+    /// would be the test signal continuous light (410B §2 TM0, TM1); on the 816 they also make
+    /// REPON reset to 1 (816 §2.3.3).
+    pub const NORMAL: Straps = Straps {
+        sbaud: false,
+        sbaud16: false,
+        tm0: true,
+        tm1: true,
+    };
+}
+
 /// Everything fixed about one chip: which controller it is, its clocks and straps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ChipConfig {
@@ -41,20 +54,20 @@ pub enum ConfigError {
 }
 
 impl ChipConfig {
-    /// A SERCON816 with a 32 MHz MCLK and a 64 MHz SCLK (816 §2.3.1, §2.4.1), straps low
-    /// (SBAUD16 = 0: the 816's own bit rates).
+    /// A SERCON816 with a 32 MHz MCLK and a 64 MHz SCLK (816 §2.3.1, §2.4.1), straps
+    /// [`Straps::NORMAL`] (SBAUD16 = 0: the 816's own bit rates; TM0 = TM1 = 1).
     #[doc(alias = "SERCON816")]
     pub fn sercon816() -> Self {
         ChipConfig {
             variant: Variant::Sercon816,
             mclk_hz: 32_000_000,
             sclk_hz: 64_000_000,
-            straps: Straps::default(),
+            straps: Straps::NORMAL,
         }
     }
 
     /// A SERCON410B with a 20 MHz MCLK and a 64 MHz SCLK (410B §3.2, §3.4.1), SREGEN = 1
-    /// (internal clock regeneration).
+    /// (internal clock regeneration), TM0 = TM1 = 1 ([`Straps::NORMAL`]).
     #[doc(alias = "SERCON410B")]
     pub fn sercon410b() -> Self {
         ChipConfig {
@@ -63,7 +76,7 @@ impl ChipConfig {
             sclk_hz: 64_000_000,
             straps: Straps {
                 sbaud16: true,
-                ..Straps::default()
+                ..Straps::NORMAL
             },
         }
     }

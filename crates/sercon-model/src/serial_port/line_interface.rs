@@ -29,12 +29,7 @@ impl Chip {
         self.serial.line_input(seg, &mut frames);
         // The telegram processor takes every frame the receiver saw (contract with tp).
         for f in frames {
-            self.tp.on_rx_frame(crate::telegram_processor::RxTelegram {
-                start: f.start,
-                end: f.end,
-                bytes: f.bytes,
-                fcs_ok: f.fcs_ok,
-            });
+            self.tp.on_rx_frame(f);
         }
         self.settle();
     }

@@ -5,7 +5,7 @@
 //!
 //! Everything is scheduled per telegram on MCLK ticks: a header becomes current, its
 //! start (transmit) or its window (receive) is an event, the frame's end is an event.
-//! Frames from the line arrive ahead of time ([`RxTelegram`]) and are queued until their
+//! Frames from the line arrive ahead of time ([`RxFrame`]) and are queued until their
 //! start. Every walk over the RAM is bounded, so no RAM contents can hang or panic the
 //! model; what is wrong is reported in PROGERR_FL (410B §4.1 17H) with INT_PROGERR.
 //!
@@ -31,34 +31,9 @@ use crate::interrupts::INT_COMEND;
 use fifo::DmaFifos;
 use status::{INT_PROGERR, INT_RWAIT, ProgErr};
 
-/// A telegram on the line: ADR and data bytes (FCS and flags not included) with the
-/// instants its frame starts (first bit of the opening flag) and ends (after the closing
-/// flag).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct LineTelegram {
-    /// First bit of the opening flag.
-    pub start: Instant,
-    /// After the last bit of the closing flag.
-    pub end: Instant,
-    /// ADR followed by the data bytes (16-bit words low byte first), without FCS.
-    pub bytes: Vec<u8>,
-}
-
-/// A telegram the receiver saw, known as soon as its line segment was handed to the chip.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct RxTelegram {
-    /// First bit of the opening flag.
-    pub start: Instant,
-    /// After the closing flag.
-    pub end: Instant,
-    /// ADR + data, FCS stripped.
-    pub bytes: Vec<u8>,
-    /// `false` for any line error (FCS, stuffing, abort).
-    pub fcs_ok: bool,
-}
-
-/// The line side's name for a received frame (contract with `serial_port`).
-pub(crate) type RxFrame = RxTelegram;
+/// A frame the receiver saw: the serial port's [`RxFrame`], handed to the processor as
+/// soon as its line segment reaches the chip.
+pub use crate::serial_port::RxFrame;
 
 /// What the processor does with the header that is current.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -163,8 +138,6 @@ pub(crate) struct TelegramProcessor {
     pub(crate) record: Vec<u16>,
     /// The containers of one telegram (reused).
     pub(crate) containers: Vec<walk::Container>,
-    /// Telegrams sent, until the line side collects them.
-    pub(crate) sent: Vec<LineTelegram>,
 }
 
 /// Most headers one block may walk: every header has at least two words.

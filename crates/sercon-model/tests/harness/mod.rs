@@ -1,13 +1,19 @@
-//! Test harness for the telegram processor: RAM layout helpers and two chips wired back
-//! to back (master → slave → master ring) through their line-side entry points
-//! (`Chip::drain_line_telegrams` / `Chip::receive_telegram`).
+//! Test harness for the telegram processor: RAM layout helpers and two or three chips wired
+//! back to back in a ring (master → slave → [slave 2 →] master) over the real line
+//! interface: `Chip::take_line_output` → fibre delay (and an optional fault: drop or corrupt
+//! a master telegram) → `Chip::line_input`. Every test through it exercises the encoder, the
+//! decoder, the slaves' repeaters and the telegram processors together.
 #![allow(dead_code)]
 
-use sercon_model::telegram_processor::{LineTelegram, RxTelegram};
+use std::collections::VecDeque;
+use std::sync::Arc;
+
+use sercon_model::serial_port::{LineSegment, LineSignal, REPEATER_LATENCY_BITS};
 use sercon_model::{Chip, ChipConfig};
 use sercon_regs::ram::container::ContainerControl;
 use sercon_regs::ram::header::{EndMarker, RxHeader, TxEnable, TxHeader};
 use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
+use sercos_wire::line::BitVec;
 use sercos_wire::time::{Duration, Instant};
 
 /// 410B §4.1 0CH.0 MSTEN, 0CH.1 MSTMASTER, 0CH.10 CYCSTART.
@@ -94,76 +100,179 @@ pub fn words(c: &mut Chip, at: u16, n: u16) -> Vec<u16> {
     (0..n).map(|i| c.read_ram(at + i)).collect()
 }
 
-/// A master and a slave in a ring: master → slave takes `delay`, slave → master takes
-/// `delay`, and the master's own telegrams come back to it after `2 × delay`.
+/// 410B §4.1 1H.3 REPON.
+pub const REPON: u16 = 1 << 3;
+
+/// A telegram a chip sent itself (not forwarded by its repeater), as seen on its output.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Sent {
+    /// First bit of the opening flag.
+    pub start: Instant,
+    /// After the last bit of the closing flag.
+    pub end: Instant,
+    /// ADR and data, without FCS.
+    pub bytes: Vec<u8>,
+}
+
+/// One node of the ring and what its output has shown.
+struct Node {
+    /// Starts of segments received, shifted by the repeater latency: an output segment
+    /// starting at one of them is forwarded, not sent.
+    forwarded_at: VecDeque<Instant>,
+}
+
+/// A master and one or two slaves in a ring: master → slave → (slave 2 →) master, each fibre
+/// `delay` long. The slaves' repeaters (REPON = 1 from the straps TM0 = TM1 = 1, 816 §2.3.3;
+/// 410B §4.1 1H.3 reset value) forward the master's telegrams around the ring; the master's
+/// repeater is switched off (a master ends the ring, as a driver programs it).
 pub struct Ring {
     pub master: Chip,
     pub slave: Chip,
+    pub slave2: Option<Chip>,
+    /// Fibre delay of every link.
     pub delay: Duration,
-    /// Every telegram either chip sent, in order, tagged (true = master).
-    pub log: Vec<(bool, LineTelegram)>,
-    /// Master → slave telegrams the ring corrupts (FCS error) by index in `log` order
-    /// of master telegrams.
+    /// Every telegram a chip sent itself, in order of release, tagged (true = master).
+    pub log: Vec<(bool, Sent)>,
+    /// Frames received (ADR, data, FCS result), per chip: master, slave, slave 2.
+    pub received: [Vec<sercon_model::serial_port::RxFrame>; 3],
+    /// Master telegrams (counted in the order sent, MSTs included) whose bits the link
+    /// master → slave corrupts: the hint is dropped and the receiver decodes an FCS error.
     pub corrupt_master: Vec<usize>,
-    /// Master telegrams to drop (not delivered to the slave) by index.
+    /// Master telegrams the link master → slave drops (the fibre keeps the filler).
     pub drop_master: Vec<usize>,
     master_count: usize,
+    nodes: [Node; 3],
     now: Instant,
+    buf: Vec<LineSegment>,
 }
 
 impl Ring {
-    /// Wires `master` and `slave`.
+    /// Wires `master` and `slave`; the master's repeater is switched off.
     pub fn new(master: Chip, slave: Chip) -> Self {
+        Self::with_slaves(master, slave, None)
+    }
+
+    /// Wires `master`, `slave` and `slave2` (in that order around the ring).
+    pub fn three(master: Chip, slave: Chip, slave2: Chip) -> Self {
+        Self::with_slaves(master, slave, Some(slave2))
+    }
+
+    fn with_slaves(mut master: Chip, slave: Chip, slave2: Option<Chip>) -> Self {
+        // 410B §4.1 1H.3 REPON = 0: the master does not forward what comes back to it.
+        let c1 = master.read(Register::Ctrl1);
+        master.write(Register::Ctrl1, c1 & !REPON);
+        let node = || Node {
+            forwarded_at: VecDeque::new(),
+        };
         Ring {
             master,
             slave,
+            slave2,
             delay: Duration::from_micros(1),
             log: Vec::new(),
+            received: [Vec::new(), Vec::new(), Vec::new()],
             corrupt_master: Vec::new(),
             drop_master: Vec::new(),
             master_count: 0,
+            nodes: [node(), node(), node()],
             now: Instant::ZERO,
+            buf: Vec::new(),
         }
     }
 
-    fn shifted(t: &LineTelegram, d: Duration, fcs_ok: bool) -> RxTelegram {
-        RxTelegram {
-            start: t.start + d,
-            end: t.end + d,
-            bytes: t.bytes.clone(),
-            fcs_ok,
-        }
+    /// The simulated time the ring has reached.
+    pub fn now(&self) -> Instant {
+        self.now
     }
 
-    /// Runs both chips to `until` in steps of half the ring delay, so every telegram
-    /// reaches its receiver before its start.
+    /// Runs every chip to `until` in steps of half the fibre delay, so every segment reaches
+    /// its receiver before the receiver's time passes its start.
     pub fn run_to(&mut self, until: Instant) {
         let step = Duration::from_picos((self.delay.as_picos() / 2).max(1));
-        let mut buf = Vec::new();
         while self.now < until {
             let next = (self.now + step).min(until);
-            self.master.advance_to(next);
-            self.master.drain_line_telegrams(&mut buf);
-            for t in buf.drain(..) {
-                let i = self.master_count;
-                self.master_count += 1;
-                let ok = !self.corrupt_master.contains(&i);
-                if !self.drop_master.contains(&i) {
-                    self.slave
-                        .receive_telegram(Self::shifted(&t, self.delay, ok));
+            let n = if self.slave2.is_some() { 3 } else { 2 };
+            for i in 0..n {
+                self.chip(i).advance_to(next);
+                let mut out = std::mem::take(&mut self.buf);
+                self.chip(i).take_line_output(&mut out);
+                for seg in out.drain(..) {
+                    self.carry(i, (i + 1) % n, seg);
                 }
-                self.master
-                    .receive_telegram(Self::shifted(&t, self.delay + self.delay, true));
-                self.log.push((true, t));
+                self.buf = out;
             }
-            self.slave.advance_to(next);
-            self.slave.drain_line_telegrams(&mut buf);
-            for t in buf.drain(..) {
-                self.master
-                    .receive_telegram(Self::shifted(&t, self.delay, true));
-                self.log.push((false, t));
+            for i in 0..n {
+                let mut frames = Vec::new();
+                self.chip(i).take_rx_frames(&mut frames);
+                self.received[i].extend(frames);
             }
             self.now = next;
         }
     }
+
+    fn chip(&mut self, i: usize) -> &mut Chip {
+        match i {
+            0 => &mut self.master,
+            1 => &mut self.slave,
+            _ => self.slave2.as_mut().unwrap_or(&mut self.slave),
+        }
+    }
+
+    /// Carries one output segment of chip `from` over the fibre to chip `to`.
+    fn carry(&mut self, from: usize, to: usize, seg: LineSegment) {
+        let mut seg = seg;
+        if let Some(hint) = &seg.hint {
+            let forwarded = {
+                let node = &mut self.nodes[from];
+                while node.forwarded_at.front().is_some_and(|t| *t < seg.start) {
+                    node.forwarded_at.pop_front();
+                }
+                node.forwarded_at.front() == Some(&seg.start)
+            };
+            if !forwarded {
+                let start = seg.start + seg.bit_time.saturating_mul(hint.offset);
+                let end = seg.end().unwrap_or(start);
+                let sent = Sent {
+                    start,
+                    end,
+                    bytes: hint.telegram.to_vec(),
+                };
+                self.log.push((from == 0, sent));
+                if from == 0 {
+                    let i = self.master_count;
+                    self.master_count += 1;
+                    if self.drop_master.contains(&i) {
+                        return;
+                    }
+                    if self.corrupt_master.contains(&i) {
+                        seg = corrupted(seg);
+                    }
+                }
+            }
+        }
+        let seg = seg.delayed(self.delay);
+        if seg.hint.is_some() {
+            let latency = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+            self.nodes[to].forwarded_at.push_back(seg.start + latency);
+        }
+        self.chip(to).line_input(seg);
+    }
+}
+
+/// `seg` with the light level of one bit in the middle of its telegram inverted (NRZI: two
+/// data bits change) and the hint dropped, as a fault injector must (serial_port segment).
+pub fn corrupted(mut seg: LineSegment) -> LineSegment {
+    let offset = seg.hint.as_ref().map_or(0, |h| h.offset);
+    if let LineSignal::Bits(bits) = &seg.signal {
+        let len = bits.len();
+        // Past the opening flag and ADR: in the data (or the FCS of a short telegram).
+        let flip = (offset + 8 + 12).min(len.saturating_sub(12));
+        let mut out = BitVec::with_capacity(len as usize);
+        for (i, b) in bits.bits().iter().enumerate() {
+            out.push(if i as u64 == flip { !b } else { b });
+        }
+        seg.signal = LineSignal::Bits(Arc::new(out));
+    }
+    seg.hint = None;
+    seg
 }
