@@ -6,21 +6,19 @@
 #![allow(missing_docs)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use sercon_model::config::Straps;
 use sercon_model::serial_port::LineSegment;
 use sercon_model::{Chip, ChipConfig};
+use sercon_regs::{Register, SerconBusExt};
 use sercos_wire::time::{Duration, Instant};
 use std::hint::black_box;
 
+/// A SERCON816 with normal straps (TM0 = TM1 = 1, no test signal) and the repeater
+/// (410B §4.1 1H.3 REPON) as asked.
 fn chip(repon: bool) -> Chip {
-    let mut cfg = ChipConfig::sercon816();
-    cfg.straps = Straps {
-        sbaud: false,
-        sbaud16: false,
-        tm0: repon,
-        tm1: repon,
-    };
-    Chip::new(cfg)
+    let mut chip = Chip::new(ChipConfig::sercon816());
+    let c1 = chip.read(Register::Ctrl1);
+    chip.write(Register::Ctrl1, (c1 & !(1 << 3)) | (u16::from(repon) << 3));
+    chip
 }
 
 fn telegram_segments() -> Vec<LineSegment> {

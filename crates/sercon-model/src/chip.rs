@@ -145,6 +145,36 @@ impl Chip {
         }
     }
 
+    /// The earliest instant after which the chip may change on its own (without a line
+    /// input, a pin input or a bus access): its next internal event (timing control,
+    /// watchdog, telegram processor, serial port) or the start of an output segment not yet
+    /// released. `None` when nothing is scheduled.
+    ///
+    /// A simulation may use it as the lookahead of a conservative event loop: nothing this
+    /// chip sends starts before this instant, so a chip `d` down the fibre can be advanced
+    /// to just before `next_event_at() + d` without missing an input.
+    pub fn next_event_at(&self) -> Option<Instant> {
+        let output = self.serial.next_output_at();
+        if self.in_reset {
+            return output;
+        }
+        let tick = match (
+            self.engine.next_tick(),
+            crate::telegram_processor::next_tick(self),
+        ) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        [
+            tick.map(|k| self.clock.instant(k)),
+            self.serial_next_event(),
+            output,
+        ]
+        .into_iter()
+        .flatten()
+        .min()
+    }
+
     /// Chooses which pins produce [`PinEvent`]s from now on.
     pub fn set_traced_pins(&mut self, pins: PinSet) {
         self.traced = pins;

@@ -1,7 +1,7 @@
 //! The serial port's scheduled status changes (pins IDLE, REACTN; status bits FIBBR, RDIST),
 //! kept in time order and applied when the chip's time reaches them.
 
-use std::collections::BTreeMap;
+use std::collections::VecDeque;
 
 use sercos_wire::time::Instant;
 
@@ -26,42 +26,43 @@ impl Change {
 }
 
 /// Changes by instant; changes at the same instant keep the order they were scheduled in.
+/// A handful are pending at a time (a telegram's IDLE and REACTN edges), so a sorted
+/// queue beats a tree.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct LineEvents {
-    map: BTreeMap<(Instant, u64), Change>,
-    seq: u64,
+    queue: VecDeque<(Instant, Change)>,
 }
 
 impl LineEvents {
-    /// Schedules `change` at `at`.
+    /// Schedules `change` at `at` (after the changes already scheduled at `at`).
     pub(crate) fn push(&mut self, at: Instant, change: Change) {
-        self.seq = self.seq.wrapping_add(1);
-        self.map.insert((at, self.seq), change);
+        let idx = self.queue.partition_point(|(t, _)| *t <= at);
+        self.queue.insert(idx, (at, change));
     }
 
     /// The instant of the earliest change.
     pub(crate) fn next_at(&self) -> Option<Instant> {
-        self.map.keys().next().map(|(t, _)| *t)
+        self.queue.front().map(|(t, _)| *t)
     }
 
     /// Removes and returns the earliest change if it is at or before `t`.
     pub(crate) fn pop_until(&mut self, t: Instant) -> Option<(Instant, Change)> {
-        let (&(at, seq), _) = self.map.iter().next()?;
-        if at > t {
-            return None;
+        if self.queue.front().is_some_and(|(at, _)| *at <= t) {
+            self.queue.pop_front()
+        } else {
+            None
         }
-        self.map.remove(&(at, seq)).map(|c| (at, c))
     }
 
     /// Drops the receiver's changes at or after `t` (a collision cut the signal they came
     /// from).
     pub(crate) fn cancel_receive_from(&mut self, t: Instant) {
-        self.map.retain(|(at, _), c| *at < t || !c.is_receive());
+        self.queue.retain(|(at, c)| *at < t || !c.is_receive());
     }
 
     /// The last scheduled FIBBR value, if any is scheduled.
     pub(crate) fn last_fibbr(&self) -> Option<bool> {
-        self.map.values().rev().find_map(|c| match c {
+        self.queue.iter().rev().find_map(|(_, c)| match c {
             Change::Fibbr(v) => Some(*v),
             _ => None,
         })

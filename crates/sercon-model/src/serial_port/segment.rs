@@ -19,7 +19,7 @@
 
 use std::sync::Arc;
 
-use sercos_wire::line::{BitVec, Bits};
+use sercos_wire::line::{BitSink, BitVec, Bits};
 use sercos_wire::time::{Duration, Instant};
 
 /// What the line carries during a segment.
@@ -155,7 +155,7 @@ impl LineSegment {
             LineSignal::Dark => LineSignal::Light,
             LineSignal::Light => LineSignal::Dark,
             LineSignal::Filler => LineSignal::Filler,
-            LineSignal::Bits(b) => LineSignal::Bits(Arc::new(invert_bits(b.bits()))),
+            LineSignal::Bits(b) => LineSignal::Bits(Arc::new(invert_bits(&b))),
         };
         self
     }
@@ -211,11 +211,42 @@ fn extend(out: &mut BitVec, bits: Bits<'_>) {
     }
 }
 
-/// The bits of `bits`, inverted.
-fn invert_bits(bits: Bits<'_>) -> BitVec {
-    let mut out = BitVec::with_capacity(bits.len());
-    for b in bits.iter() {
-        out.push(!b);
+/// The bits of `bits`, inverted (a byte at a time: the bits are packed first bit in the
+/// most significant position, as `BitSink::put` writes them).
+fn invert_bits(bits: &BitVec) -> BitVec {
+    let len = bits.len();
+    let mut out = BitVec::with_capacity(usize::try_from(len).unwrap_or(0));
+    let mut left = len;
+    for byte in bits.as_bytes() {
+        let n = left.min(8) as u32;
+        if n == 0 {
+            break;
+        }
+        let inv = u32::from(!*byte) >> (8 - n);
+        // A BitVec grows without limit: put cannot fail.
+        let _ = out.put(inv, n);
+        left -= u64::from(n);
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inverting_twice_gives_the_bits_back_and_inverts_each_bit() {
+        for len in [0usize, 1, 7, 8, 9, 23, 64] {
+            let mut v = BitVec::new();
+            for i in 0..len {
+                v.push(i % 3 == 0);
+            }
+            let inv = invert_bits(&v);
+            assert_eq!(inv.len(), v.len());
+            for i in 0..len {
+                assert_eq!(inv.bits().get(i), v.bits().get(i).map(|b| !b), "{len} {i}");
+            }
+            assert_eq!(invert_bits(&inv), v);
+        }
+    }
 }

@@ -1,0 +1,166 @@
+//! Controller pair speed (task tp2, target ≥ 50× real time): a SERCON816 master and one
+//! slave back to back (1 µs of fibre each way) at 16 Mbit/s, 62.5 µs cycle (MCLKDIV = 15:
+//! 0.5 µs time unit, TSCYC0 = 125), phase 4, an 8-word MDT and an 8-word AT per cycle
+//! (410B §4.2.1–§4.2.3; 816 §2.3.1). The figure is the wall time per simulated millisecond;
+//! `docs/performance.md`, "Controller pair (sercon-model)".
+
+// criterion_group! generates an undocumented pub fn.
+#![allow(missing_docs)]
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use sercon_model::serial_port::LineSegment;
+use sercon_model::{Chip, ChipConfig};
+use sercon_regs::ram::container::ContainerControl;
+use sercon_regs::ram::header::{EndMarker, RxHeader, TxEnable, TxHeader};
+use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
+use sercos_wire::time::{Duration, Instant};
+
+/// 410B §4.1 0CH.0 MSTEN, 0CH.1 MSTMASTER, 0CH.10 CYCSTART; 3H.8 ENTMT; 1H.3 REPON.
+const MSTEN: u16 = 1 << 0;
+const MSTMASTER: u16 = 1 << 1;
+const CYCSTART: u16 = 1 << 10;
+const ENTMT: u16 = 1 << 8;
+const REPON: u16 = 1 << 3;
+
+/// A SERCON816 (16 Mbit/s by its straps, 816 §2.3.1) whose time unit is 0.5 µs and whose
+/// cycle is 125 units.
+fn chip() -> Chip {
+    let mut c = Chip::new(ChipConfig::sercon816());
+    // 410B §4.1 0EH MCLKDIV: 32 MHz / 16 = 2 MHz, a 0.5 µs unit.
+    c.write(Register::MclkDiv, 15);
+    c.write(Register::Tscyc0, 125);
+    c
+}
+
+fn control(len: u16) -> u16 {
+    ContainerControl::new(len, false, 0, false, true).map_or(0, |c| c.to_word())
+}
+
+/// Transmit at `at` (TRT `trt`, 8 words, single buffer, data at `at + 5`), then the end
+/// marker or the next header at `at + 13`.
+fn tx_block(c: &mut Chip, at: u16, adr: u8, trt: u16, pt: u16) {
+    let h = TxHeader {
+        adr,
+        en: TxEnable::Continuous,
+        trt,
+        tlen: 8,
+        pt,
+        ..TxHeader::default()
+    };
+    c.write_ram_words(at, &h.to_words(Variant::Sercon816));
+    c.write_ram(at + 4, control(8));
+    let data: Vec<u16> = (0..8).map(|i| 0x1000 * u16::from(adr & 0xF) + i).collect();
+    c.write_ram_words(at + 5, &data);
+}
+
+/// Receive header at `at` with one 8-word container (data at `at + 7`).
+fn rx_block(c: &mut Chip, at: u16, adr: u8, trt: u16, pt: u16) {
+    let h = RxHeader {
+        adr,
+        achk: true,
+        trt,
+        tlen: 8,
+        pt,
+        ..RxHeader::default()
+    };
+    c.write_ram_words(at, &h.to_words(Variant::Sercon816));
+    c.write_ram_words(at + 5, &[control(8), 0]);
+}
+
+/// The master and the slave in phase 4, cycles running.
+fn pair() -> Pair {
+    let mut m = chip();
+    let mut s = chip();
+    // Master: COMPT0 → MDT (TRT 2 units after the MST) → AT → end marker.
+    m.write_ram(0, 16);
+    tx_block(&mut m, 16, 255, 2, 29);
+    rx_block(&mut m, 29, 1, 40, 44);
+    m.write_ram_words(44, &EndMarker::default().to_words());
+    // Slave: COMPT0 → MDT → AT (TRT 40 units = 20 µs after the MST) → end marker.
+    s.write_ram(0, 16);
+    rx_block(&mut s, 16, 255, 2, 31);
+    tx_block(&mut s, 31, 1, 40, 44);
+    s.write_ram_words(44, &EndMarker::default().to_words());
+    s.write(Register::Phas, 0xFF04);
+    s.write(Register::Ctrl3, ENTMT);
+    s.write(Register::Ctrl0C, MSTEN);
+    // The master ends the ring: no repeater.
+    let c1 = m.read(Register::Ctrl1);
+    m.write(Register::Ctrl1, c1 & !REPON);
+    m.write(Register::Phas, 0x0404);
+    m.write(Register::Ctrl3, ENTMT);
+    m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
+    Pair {
+        chips: [m, s],
+        delay: Duration::from_micros(1),
+        now: Instant::ZERO,
+        buf: Vec::new(),
+    }
+}
+
+/// Two chips in a ring, advanced by a conservative event loop: every round advances both to
+/// just before the earliest next event plus the fibre delay (nothing either sends can
+/// arrive earlier), then carries the released output segments over the fibre.
+#[derive(Clone)]
+struct Pair {
+    chips: [Chip; 2],
+    delay: Duration,
+    now: Instant,
+    buf: Vec<LineSegment>,
+}
+
+impl Pair {
+    fn run_to(&mut self, until: Instant) {
+        let one = Duration::from_picos(1);
+        while self.now < until {
+            let next_event = self.chips.iter().filter_map(|c| c.next_event_at()).min();
+            // Just before the first instant a segment sent at the next event could arrive.
+            let horizon = next_event.map_or(until, |e| {
+                let arrival = e.saturating_add(self.delay);
+                Instant::ZERO + arrival.saturating_duration_since(Instant::ZERO + one)
+            });
+            let horizon = horizon.max(self.now + one).min(until);
+            for i in 0..2 {
+                let c = &mut self.chips[i];
+                c.advance_to(horizon);
+                c.take_line_output(&mut self.buf);
+                let to = &mut self.chips[1 - i];
+                for seg in self.buf.drain(..) {
+                    to.line_input(seg.delayed(self.delay));
+                }
+            }
+            self.now = horizon;
+        }
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    let mut warm = pair();
+    // Phase 4 running: a few cycles in.
+    warm.run_to(Instant::ZERO + Duration::from_micros(500));
+    let check = warm.chips[0].read_ram(29 + 7);
+    assert_eq!(check, 0x1000, "the master received the slave's AT");
+    let mut g = c.benchmark_group("ring_pair");
+    // One simulated millisecond: 16 cycles of 62.5 µs.
+    g.throughput(Throughput::Elements(16));
+    g.bench_function(
+        "master+slave 16 Mbit/s 62.5 µs phase 4, 1 ms simulated",
+        |b| {
+            b.iter_batched(
+                || warm.clone(),
+                |mut p| {
+                    let until = p.now + Duration::from_millis(1);
+                    p.run_to(until);
+                    black_box(p)
+                },
+                criterion::BatchSize::LargeInput,
+            )
+        },
+    );
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
