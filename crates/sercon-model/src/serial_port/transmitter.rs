@@ -139,12 +139,20 @@ impl Transmitter {
                 self.resume_at = Some(self.own_until);
                 self.emit(seg);
             } else if self.background.front().is_some_and(|s| s.start == t) {
-                let Some(seg) = self.background.pop_front() else {
+                let Some(mut seg) = self.background.pop_front() else {
                     break;
                 };
                 self.bg_active = Some(seg.clone());
                 if t >= self.own_until {
                     self.resume_at = None;
+                    // A forwarded telegram after an own one continues from the level the
+                    // line is at, as own telegrams do (NRZI decodes it the same; without
+                    // this its first flag bit would be lost downstream).
+                    if matches!(seg.signal, LineSignal::Bits(_))
+                        && seg.level_before != self.level_at(t)
+                    {
+                        seg = seg.inverted();
+                    }
                     self.emit(seg);
                 }
             } else {
