@@ -1,0 +1,131 @@
+//! A node: one controller model, the program on its host processor, and its own clock.
+
+use std::collections::VecDeque;
+
+use sercon_model::Chip;
+use sercon_model::pins::{Pin, PinSet};
+use sercon_model::serial_settings::{TestMode, TxdOutput, test_mode, txd_outputs};
+use sercon_regs::SerconBus;
+use sercos_wire::time::Instant;
+
+use crate::clock::NodeClock;
+use crate::config::NodeConfig;
+use crate::event_queue::EventHandle;
+use crate::host::{HostProgram, NodeBus, Wake};
+
+/// 410B §4.1 1H.3 REPON.
+const REPON: u16 = 1 << 3;
+/// Host wakes in a row at one instant before the node is left alone (a program that
+/// keeps an interrupt toggling cannot hang the simulation).
+const MAX_HOST_WAKES: usize = 64;
+
+/// One node of the ring.
+pub(crate) struct Node {
+    pub(crate) cfg: NodeConfig,
+    pub(crate) chip: Chip,
+    pub(crate) host: Box<dyn HostProgram>,
+    pub(crate) clock: NodeClock,
+    pub(crate) powered: bool,
+    /// Scheduled power-off windows (simulation time), from the fault list.
+    pub(crate) off_windows: Vec<(Instant, Instant)>,
+    /// The host's deadline (local time).
+    pub(crate) host_deadline: Option<Instant>,
+    /// Levels of INT0, INT1 when the host last looked.
+    pub(crate) ints: (bool, bool),
+    /// Forwarded segments the simulation already knows of: (local start at the output,
+    /// originating node).
+    pub(crate) expect: VecDeque<(Instant, usize)>,
+    /// End of the last own telegram (local): the background resumes there.
+    pub(crate) resume: Option<Instant>,
+    /// The output line is taken up to here (simulation time).
+    pub(crate) out_floor: Instant,
+    /// Start of the last input segment (local time).
+    pub(crate) in_floor: Instant,
+    /// The chip repeats its input (1H.3 REPON, transmitter on, no test mode).
+    pub(crate) repeating: bool,
+    /// The pending wake event.
+    pub(crate) wake: Option<(Instant, EventHandle)>,
+    /// Index in the VCD, if traced.
+    pub(crate) vcd: Option<usize>,
+}
+
+impl Node {
+    pub(crate) fn new(
+        cfg: NodeConfig,
+        chip: Chip,
+        host: Box<dyn HostProgram>,
+        clock: NodeClock,
+    ) -> Self {
+        Node {
+            cfg,
+            chip,
+            host,
+            clock,
+            powered: true,
+            off_windows: Vec::new(),
+            host_deadline: None,
+            ints: (false, false),
+            expect: VecDeque::new(),
+            resume: None,
+            out_floor: Instant::ZERO,
+            in_floor: Instant::ZERO,
+            repeating: false,
+            wake: None,
+            vcd: None,
+        }
+    }
+
+    /// Whether the node is powered at simulation time `t` as far as the schedule says.
+    pub(crate) fn powered_at(&self, t: Instant) -> bool {
+        self.powered && !self.off_windows.iter().any(|(a, b)| *a <= t && t < *b)
+    }
+
+    /// Runs the host for `why` at the chip's time.
+    pub(crate) fn run_host(&mut self, why: Wake) {
+        let now = self.chip.now();
+        let mut bus = NodeBus::new(&mut self.chip, self.cfg.bus_access);
+        self.host_deadline = self.host.wake(&mut bus, now, why);
+        self.repeating = repeats(&mut self.chip);
+    }
+
+    /// Wakes the host for interrupt changes and a due deadline, as often as they come.
+    pub(crate) fn serve_host(&mut self) {
+        for _ in 0..MAX_HOST_WAKES {
+            let ints = (
+                self.chip.pin_level(Pin::Int0),
+                self.chip.pin_level(Pin::Int1),
+            );
+            let why = if ints != self.ints {
+                self.ints = ints;
+                Wake::Interrupt {
+                    int0: ints.0,
+                    int1: ints.1,
+                }
+            } else if self.host_deadline.is_some_and(|d| d <= self.chip.now()) {
+                self.host_deadline = None;
+                Wake::Deadline
+            } else {
+                return;
+            };
+            self.run_host(why);
+        }
+    }
+
+    /// The pins traced for the VCD.
+    pub(crate) fn set_traced(&mut self, pins: PinSet) {
+        self.chip.set_traced_pins(pins);
+    }
+}
+
+/// Whether `chip` forwards its input: 410B §4.1 1H.3 REPON = 1 with a TxD pin carrying
+/// transmit data (2H.0–6) and no test mode (2H TMODE, pins TM0/TM1).
+pub(crate) fn repeats(chip: &mut Chip) -> bool {
+    let r1 = chip.read_register(1);
+    let r2 = chip.read_register(2);
+    let cfg = chip.config();
+    r1 & REPON != 0
+        && txd_outputs(r2)
+            .iter()
+            .any(|o| matches!(o, TxdOutput::TransmitData))
+        && matches!(test_mode(cfg.variant, &cfg.straps, r2).0, TestMode::Normal)
+}

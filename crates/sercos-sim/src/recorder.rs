@@ -1,0 +1,283 @@
+//! Trace wiring: what crosses a segment becomes [`TraceRecord`]s, kept until simulated time
+//! has passed them (the fast path knows arrivals ahead of time) and then written in time
+//! order to the log, the capture and the hash; pin events go to a VCD at the end.
+
+use std::cmp::{Ordering, Reverse};
+use std::collections::BinaryHeap;
+use std::sync::Arc;
+
+use sercon_model::pins::PinEvent;
+use sercon_model::serial_port::{LineSegment, LineSignal};
+use sercon_model::vcd_trace::{Timescale, TracedChip, write_vcd};
+use sercos_wire::line::{Coding, Decoded, Decoder, LineConfig, LineError, Polarity};
+use sercos_wire::telegram::Origin;
+use sercos_wire::time::{BitRate, Instant};
+
+use crate::config::{CaptureFormat, TraceConfig};
+use crate::error::SimError;
+use crate::trace::{
+    LogFormat, PcapNgTrace, PcapTrace, SegmentId, TelegramLog, TraceHash, TraceHasher, TraceRecord,
+    TraceSink,
+};
+
+/// What a run's traces hold at its end.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct TraceOutput {
+    /// The telegram log (empty when off).
+    pub log: Vec<u8>,
+    /// The capture file (empty when off).
+    pub capture: Vec<u8>,
+    /// The VCD file (empty when off).
+    pub vcd: Vec<u8>,
+    /// The hash over the records, when on.
+    pub hash: Option<TraceHash>,
+    /// Records written to the log and the hash.
+    pub records: u64,
+}
+
+#[derive(Debug, Clone)]
+enum What {
+    Telegram(Arc<[u8]>),
+    Error(LineError, Vec<u8>),
+}
+
+#[derive(Debug, Clone)]
+struct Pending {
+    time: u64,
+    segment: u16,
+    seq: u64,
+    origin: Origin,
+    bit_rate: Option<BitRate>,
+    what: What,
+}
+
+impl PartialEq for Pending {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for Pending {}
+impl PartialOrd for Pending {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Pending {
+    fn cmp(&self, other: &Self) -> Ordering {
+        (self.time, self.segment, self.seq).cmp(&(other.time, other.segment, other.seq))
+    }
+}
+
+/// The capture writer in use.
+enum Capture {
+    Pcap(PcapTrace<Vec<u8>>),
+    PcapNg(PcapNgTrace<Vec<u8>>),
+}
+
+/// Collects and writes the traces of one run.
+pub(crate) struct Recorder {
+    cfg: TraceConfig,
+    pending: BinaryHeap<Reverse<Pending>>,
+    seq: u64,
+    log: Option<TelegramLog<Vec<u8>>>,
+    capture: Option<Capture>,
+    hasher: Option<TraceHasher>,
+    records: u64,
+    /// Per traced chip: header and events (simulation time).
+    vcd: Vec<(TracedChip, Vec<PinEvent>)>,
+}
+
+impl Recorder {
+    pub(crate) fn new(cfg: TraceConfig) -> Result<Self, SimError> {
+        let capture = match cfg.capture {
+            Some((seg, CaptureFormat::Pcap)) => {
+                Some(Capture::Pcap(PcapTrace::new(Vec::new(), Some(seg))?))
+            }
+            Some((seg, CaptureFormat::PcapNg)) => {
+                Some(Capture::PcapNg(PcapNgTrace::new(Vec::new(), Some(seg))?))
+            }
+            None => None,
+        };
+        Ok(Recorder {
+            log: cfg.log.map(|f| TelegramLog::new(Vec::new(), f)),
+            hasher: cfg.hash.then(TraceHasher::new),
+            capture,
+            cfg,
+            pending: BinaryHeap::new(),
+            seq: 0,
+            records: 0,
+            vcd: Vec::new(),
+        })
+    }
+
+    /// Adds a chip to the VCD; returns its index there.
+    pub(crate) fn add_vcd_chip(&mut self, chip: TracedChip) -> usize {
+        self.vcd.push((chip, Vec::new()));
+        self.vcd.len() - 1
+    }
+
+    /// Records a pin event (at simulation time) of VCD chip `index`.
+    pub(crate) fn pin_event(&mut self, index: usize, event: PinEvent) {
+        if let Some((_, evs)) = self.vcd.get_mut(index) {
+            evs.push(event);
+        }
+    }
+
+    /// Whether records on `segment` are wanted at all.
+    pub(crate) fn wants(&self, segment: usize) -> bool {
+        let Ok(s) = u16::try_from(segment) else {
+            return false;
+        };
+        let logged = (self.log.is_some() || self.hasher.is_some())
+            && self.cfg.log_segment.is_none_or(|l| l.0 == s);
+        let captured = self.cfg.capture.is_some_and(|(c, _)| c.0 == s);
+        logged || captured
+    }
+
+    /// `seg` entered `segment` (simulation time): its telegrams and frames in error.
+    pub(crate) fn observe(&mut self, segment: usize, seg: &LineSegment, origin: Origin) {
+        if !self.wants(segment) {
+            return;
+        }
+        let Ok(segment) = u16::try_from(segment) else {
+            return;
+        };
+        let LineSignal::Bits(bits) = &seg.signal else {
+            return;
+        };
+        let bit_rate = BitRate::ALL
+            .into_iter()
+            .find(|r| r.bit_time() == seg.bit_time);
+        let bt = seg.bit_time;
+        let at = |pos: u64| seg.start.saturating_add(bt.saturating_mul(pos)).as_picos();
+        if let Some(hint) = &seg.hint {
+            let time = at(hint.offset);
+            self.push(
+                time,
+                segment,
+                origin,
+                bit_rate,
+                What::Telegram(hint.telegram.clone()),
+            );
+            return;
+        }
+        // 410B §1 NRZI line: decode what the bits say (a fault changed them).
+        let polarity = if seg.level_before {
+            Polarity::LightOnLow
+        } else {
+            Polarity::LightOnHigh
+        };
+        let mut dec = Decoder::new(LineConfig::new(Coding::Nrzi, polarity));
+        let mut found = Vec::new();
+        dec.push(bits.bits(), |d| {
+            let what = match d {
+                Decoded::Telegram(f) => What::Telegram(Arc::from(f.bytes)),
+                Decoded::Error { error, received } => What::Error(error, received.to_vec()),
+            };
+            found.push((d.start(), what));
+        });
+        for (pos, what) in found {
+            self.push(at(pos), segment, origin, bit_rate, what);
+        }
+    }
+
+    fn push(
+        &mut self,
+        time: u64,
+        segment: u16,
+        origin: Origin,
+        bit_rate: Option<BitRate>,
+        what: What,
+    ) {
+        self.seq += 1;
+        self.pending.push(Reverse(Pending {
+            time,
+            segment,
+            seq: self.seq,
+            origin,
+            bit_rate,
+            what,
+        }));
+    }
+
+    /// Writes the records before `now` (nothing earlier can come any more).
+    pub(crate) fn flush_before(&mut self, now: Instant) -> Result<(), SimError> {
+        while let Some(Reverse(top)) = self.pending.peek() {
+            if top.time >= now.as_picos() {
+                break;
+            }
+            let Some(Reverse(p)) = self.pending.pop() else {
+                break;
+            };
+            self.write(&p)?;
+        }
+        Ok(())
+    }
+
+    fn write(&mut self, p: &Pending) -> Result<(), SimError> {
+        let time = Instant::from_picos(p.time);
+        let seg = SegmentId(p.segment);
+        let mut rec = match &p.what {
+            What::Telegram(b) => TraceRecord::telegram(time, seg, p.origin, b),
+            What::Error(e, r) => TraceRecord::line_error(time, seg, p.origin, *e, r),
+        };
+        if let Some(r) = p.bit_rate {
+            rec = rec.with_bit_rate(r);
+        }
+        if self.cfg.log_segment.is_none_or(|l| l == seg) {
+            let mut counted = false;
+            if let Some(log) = &mut self.log {
+                log.record(&rec)?;
+                counted = true;
+            }
+            if let Some(h) = &mut self.hasher {
+                h.record(&rec)?;
+                counted = true;
+            }
+            if counted {
+                self.records += 1;
+            }
+        }
+        match &mut self.capture {
+            Some(Capture::Pcap(c)) => c.record(&rec)?,
+            Some(Capture::PcapNg(c)) => c.record(&rec)?,
+            None => {}
+        }
+        Ok(())
+    }
+
+    /// Writes everything and hands the traces over.
+    pub(crate) fn finish(mut self, end: Instant) -> Result<TraceOutput, SimError> {
+        self.flush_before(Instant::MAX)?;
+        let mut out = TraceOutput {
+            records: self.records,
+            hash: self.hasher.take().map(TraceHasher::finish),
+            ..TraceOutput::default()
+        };
+        if let Some(log) = self.log.take() {
+            out.log = log.finish()?;
+        }
+        match self.capture.take() {
+            Some(Capture::Pcap(c)) => out.capture = c.finish()?,
+            Some(Capture::PcapNg(c)) => out.capture = c.finish()?,
+            None => {}
+        }
+        if !self.vcd.is_empty() {
+            let chips: Vec<(TracedChip, &[PinEvent])> = self
+                .vcd
+                .iter()
+                .map(|(c, e)| (c.clone(), e.as_slice()))
+                .collect();
+            write_vcd(&mut out.vcd, Timescale::Nanoseconds, &chips, end)?;
+        }
+        Ok(out)
+    }
+}
+
+/// The log formats, for callers that name them.
+pub fn log_format_name(f: LogFormat) -> &'static str {
+    match f {
+        LogFormat::Text => "text",
+        LogFormat::JsonLines => "json",
+    }
+}

@@ -1,0 +1,133 @@
+//! The fixed benchmark scenarios of `sercon bench` and the criterion benches: static
+//! phase-4 rings run for a while, measured in simulated seconds per wall second.
+
+use std::time::Instant as WallInstant;
+
+use sercos_wire::time::{Duration, Instant};
+
+use crate::error::SimError;
+use crate::sim::Simulation;
+use crate::static_ring::StaticRing;
+
+/// One scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario {
+    /// Name (`ring-8`, …).
+    pub name: String,
+    /// The ring.
+    pub ring: StaticRing,
+}
+
+/// The result of running a scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BenchResult {
+    /// Scenario name.
+    pub scenario: String,
+    /// Slaves.
+    pub slaves: usize,
+    /// Bit rate in Mbit/s.
+    pub bit_rate_mbit: u32,
+    /// Cycle in µs.
+    pub cycle_us: u16,
+    /// Communication phase.
+    pub phase: u8,
+    /// Simulated seconds.
+    pub sim_s: f64,
+    /// Wall seconds.
+    pub wall_s: f64,
+    /// Real-time factor: simulated seconds per wall second.
+    pub rtf: f64,
+    /// Wall microseconds per simulated cycle.
+    pub wall_us_per_cycle: f64,
+    /// Telegram bytes per cycle (MST, MDT, ATs).
+    pub bytes_per_cycle: u64,
+}
+
+impl BenchResult {
+    /// One JSON object on one line.
+    pub fn to_json(&self) -> String {
+        format!(
+            "{{\"scenario\":\"{}\",\"slaves\":{},\"bit_rate_mbit\":{},\"cycle_us\":{},\"phase\":{},\"sim_s\":{:.6},\"wall_s\":{:.6},\"rtf\":{:.3},\"wall_us_per_cycle\":{:.3},\"bytes_per_cycle\":{}}}",
+            self.scenario,
+            self.slaves,
+            self.bit_rate_mbit,
+            self.cycle_us,
+            self.phase,
+            self.sim_s,
+            self.wall_s,
+            self.rtf,
+            self.wall_us_per_cycle,
+            self.bytes_per_cycle
+        )
+    }
+}
+
+/// `ring-8`: master + 8 slaves, 16 Mbit/s, 250 µs cycle, phase 4, 8 words each way.
+pub fn ring_8() -> Scenario {
+    Scenario {
+        name: "ring-8".into(),
+        ring: StaticRing::new(8, 250),
+    }
+}
+
+/// `ring-n`: master + n slaves, 16 Mbit/s, 4 ms cycle, 1 word each way.
+pub fn ring_n(n: usize) -> Scenario {
+    let mut ring = StaticRing::new(n, 4000);
+    ring.mdt_words = 1;
+    ring.at_words = 1;
+    Scenario {
+        name: format!("ring-{n}"),
+        ring,
+    }
+}
+
+/// Every scenario `sercon bench` runs.
+pub fn all() -> Vec<Scenario> {
+    vec![ring_8(), ring_n(8), ring_n(32), ring_n(128), ring_n(254)]
+}
+
+/// Telegram bytes on the line per cycle (ADR + data + FCS of MST, MDT and every AT).
+pub fn bytes_per_cycle(ring: &StaticRing) -> u64 {
+    let n = ring.slaves as u64;
+    let mst = 2 + 2;
+    let mdt = 1 + 2 * n * u64::from(ring.mdt_words) + 2;
+    let at = 1 + 2 * u64::from(ring.at_words) + 2;
+    mst + mdt + n * at
+}
+
+/// Builds the scenario's simulation and runs it for a warm-up cycle.
+pub fn prepare(s: &Scenario) -> Result<Simulation, SimError> {
+    let (cfg, hosts, _) = s.ring.build()?;
+    let mut sim = Simulation::new(cfg, hosts)?;
+    let cycle = Duration::from_micros(u64::from(s.ring.cycle_us));
+    sim.run_until(Instant::ZERO + cycle)?;
+    Ok(sim)
+}
+
+/// Runs `s` for `cycles` cycles after the warm-up and measures it.
+pub fn run(s: &Scenario, cycles: u64) -> Result<BenchResult, SimError> {
+    let mut sim = prepare(s)?;
+    let cycle = Duration::from_micros(u64::from(s.ring.cycle_us));
+    let start = sim.now();
+    let end = start + cycle.saturating_mul(cycles);
+    let wall = WallInstant::now();
+    sim.run_until(end)?;
+    let wall_s = wall.elapsed().as_secs_f64();
+    let sim_s = end.saturating_duration_since(start).as_secs_f64();
+    Ok(BenchResult {
+        scenario: s.name.clone(),
+        slaves: s.ring.slaves,
+        bit_rate_mbit: s.ring.bit_rate.mbit(),
+        cycle_us: s.ring.cycle_us,
+        phase: 4,
+        sim_s,
+        wall_s,
+        rtf: if wall_s > 0.0 {
+            sim_s / wall_s
+        } else {
+            f64::INFINITY
+        },
+        wall_us_per_cycle: wall_s * 1e6 / cycles.max(1) as f64,
+        bytes_per_cycle: bytes_per_cycle(&s.ring),
+    })
+}

@@ -1,0 +1,702 @@
+//! The simulation loop: nodes woken in time order by a deterministic event queue, line
+//! segments carried along fibres (or the bus) with their delays, faults applied on the way.
+//!
+//! Fast path (`Delivery::Fast`): when a node sends a segment, its arrival at every node
+//! down the ring is computed at once as a sum of fibre delays and repeater latencies
+//! (`REPEATER_LATENCY_BITS` bit times per repeater, 410B §1: "The slaves regenerate and
+//! repeat their received data"), so a repeater that only forwards costs no event; the
+//! chip's own forwarded copy is recognised and dropped. Reference path
+//! (`Delivery::Exact`): every repeater's output is taken from its chip, hop by hop.
+
+use sercon_model::pins::{PinEvent, PinSet};
+use sercon_model::serial_port::{LineSegment, LineSignal, REPEATER_LATENCY_BITS};
+use sercon_model::vcd_trace::TracedChip;
+use sercon_model::{Chip, ChipConfig};
+use sercos_wire::line::BitVec;
+use sercos_wire::telegram::Origin;
+use sercos_wire::time::{Duration, Instant};
+use std::sync::Arc;
+
+use crate::clock::NodeClock;
+use crate::config::{Delivery, MAX_SLAVES, SimConfig};
+use crate::error::SimError;
+use crate::event_queue::{ComponentId, EventQueue};
+use crate::fault::{Fault, FaultKind, SegmentFaults, ppm_to_ppb};
+use crate::host::{HostProgram, Wake};
+use crate::node::{Node, repeats};
+use crate::recorder::{Recorder, TraceOutput};
+use crate::topology::Topology;
+
+/// Rounds of "serve the nodes an event touched" per event before giving up on quiet.
+const MAX_SETTLE_ROUNDS: usize = 1024;
+
+/// What the queue holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Ev {
+    /// Wake node `n`.
+    Node(usize),
+    /// Fault `i` starts.
+    FaultStart(usize),
+    /// Fault `i` ends (repair, power-on).
+    FaultEnd(usize),
+}
+
+/// Counters of one run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SimStats {
+    /// Events processed.
+    pub events: u64,
+    /// Segments handed to a controller's receiver.
+    pub deliveries: u64,
+    /// Segments that reached a node after a later one (cut at the later one's start).
+    pub out_of_order: u64,
+    /// Overlapping transmissions on the bus.
+    pub collisions: u64,
+}
+
+/// One segment (fibre, or the bus) as the simulation sees it.
+struct Segment {
+    delay: Duration,
+    faults: SegmentFaults,
+    /// The last segment that entered it (simulation time) and its origin.
+    last_entered: Option<(LineSegment, usize)>,
+}
+
+/// A running simulation.
+pub struct Simulation {
+    topology: Topology,
+    delivery: Delivery,
+    nodes: Vec<Node>,
+    segments: Vec<Segment>,
+    faults: Vec<Fault>,
+    queue: EventQueue<Ev>,
+    recorder: Recorder,
+    stats: SimStats,
+    touched: Vec<usize>,
+    is_touched: Vec<bool>,
+    buf: Vec<LineSegment>,
+    pins: Vec<PinEvent>,
+    bus_busy_until: Instant,
+    now: Instant,
+}
+
+impl Simulation {
+    /// Builds the nodes (chips at reset, time 0), wakes every host program with
+    /// [`Wake::Start`] (node order) and schedules the faults.
+    pub fn new(cfg: SimConfig, hosts: Vec<Box<dyn HostProgram>>) -> Result<Self, SimError> {
+        let n = cfg.nodes.len();
+        if n == 0 {
+            return Err(SimError::NoNodes);
+        }
+        if n - 1 > MAX_SLAVES {
+            return Err(SimError::TooManySlaves(n - 1));
+        }
+        if hosts.len() != n {
+            return Err(SimError::HostCount {
+                hosts: hosts.len(),
+                nodes: n,
+            });
+        }
+        let seg_delays: Vec<Duration> = match &cfg.topology {
+            Topology::Ring { fibres } => {
+                if fibres.len() != n {
+                    return Err(SimError::FibreCount {
+                        fibres: fibres.len(),
+                        nodes: n,
+                    });
+                }
+                fibres.iter().map(|f| f.delay()).collect()
+            }
+            Topology::Bus { delay } => vec![*delay],
+        };
+        for f in &cfg.faults {
+            check_fault(f, n, seg_delays.len())?;
+        }
+        let mut recorder = Recorder::new(cfg.traces.clone())?;
+        let mut nodes = Vec::with_capacity(n);
+        for (i, (nc, host)) in cfg.nodes.iter().zip(hosts).enumerate() {
+            let chip =
+                Chip::try_new(nc.chip).map_err(|source| SimError::Chip { node: i, source })?;
+            let clock = NodeClock::new(ppm_to_ppb(nc.mclk_error_ppm));
+            let mut node = Node::new(nc.clone(), chip, host, clock);
+            for f in &cfg.faults {
+                if let FaultKind::PowerOff { node: j, until } = f.kind
+                    && j == i
+                {
+                    node.off_windows.push((f.at, until.unwrap_or(Instant::MAX)));
+                }
+            }
+            nodes.push(node);
+        }
+        for (i, pins) in &cfg.traces.vcd {
+            let node = nodes.get_mut(*i).ok_or(SimError::NoSuchTarget {
+                what: "node",
+                index: *i,
+            })?;
+            let pins: PinSet = *pins;
+            node.set_traced(pins);
+            let chip = &node.chip;
+            let traced = TracedChip::new(&node.cfg.name, pins, |p| chip.pin_level(p))?;
+            node.vcd = Some(recorder.add_vcd_chip(traced));
+        }
+        let segments = seg_delays
+            .iter()
+            .enumerate()
+            .map(|(k, d)| Segment {
+                delay: *d,
+                faults: SegmentFaults::new(&cfg.faults, k, cfg.seed),
+                last_entered: None,
+            })
+            .collect();
+        let mut sim = Simulation {
+            topology: cfg.topology,
+            delivery: cfg.delivery,
+            nodes,
+            segments,
+            faults: cfg.faults,
+            queue: EventQueue::new(),
+            recorder,
+            stats: SimStats::default(),
+            touched: Vec::new(),
+            is_touched: vec![false; n],
+            buf: Vec::new(),
+            pins: Vec::new(),
+            bus_busy_until: Instant::ZERO,
+            now: Instant::ZERO,
+        };
+        for (i, f) in sim.faults.iter().enumerate() {
+            let target = ComponentId(u32::try_from(n + i).unwrap_or(u32::MAX));
+            sim.queue.schedule(f.at, target, Ev::FaultStart(i))?;
+            let end = match f.kind {
+                FaultKind::FibreBreak { until, .. } | FaultKind::PowerOff { until, .. } => until,
+                _ => None,
+            };
+            if let Some(e) = end {
+                sim.queue.schedule(e.max(f.at), target, Ev::FaultEnd(i))?;
+            }
+        }
+        for j in 0..n {
+            if let Some(node) = sim.nodes.get_mut(j) {
+                node.run_host(Wake::Start);
+                node.ints = (
+                    node.chip.pin_level(sercon_model::pins::Pin::Int0),
+                    node.chip.pin_level(sercon_model::pins::Pin::Int1),
+                );
+            }
+            sim.touch(j);
+        }
+        sim.settle()?;
+        Ok(sim)
+    }
+
+    /// The current simulation time.
+    pub fn now(&self) -> Instant {
+        self.now
+    }
+
+    /// Counters so far.
+    pub fn stats(&self) -> SimStats {
+        self.stats
+    }
+
+    /// Number of nodes (master and slaves).
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// The controller of node `i` (for reading its registers and RAM after a run;
+    /// accesses through it cost nothing and do not advance it).
+    pub fn chip_mut(&mut self, i: usize) -> Option<&mut Chip> {
+        self.nodes.get_mut(i).map(|n| &mut n.chip)
+    }
+
+    /// Whether node `i` is powered now.
+    pub fn powered(&self, i: usize) -> bool {
+        self.nodes.get(i).is_some_and(|n| n.powered)
+    }
+
+    /// The total delay from node `from`'s transmitter to node `to`'s receiver along the
+    /// ring for a signal at `bit_time`: fibres plus the repeater latency of every node in
+    /// between (`None` on a bus or for unknown nodes).
+    pub fn ring_delay(&self, from: usize, to: usize, bit_time: Duration) -> Option<Duration> {
+        let Topology::Ring { fibres } = &self.topology else {
+            return None;
+        };
+        let n = fibres.len();
+        if from >= n || to >= n {
+            return None;
+        }
+        let mut d = Duration::ZERO;
+        let mut k = from;
+        loop {
+            d += fibres.get(k)?.delay();
+            k = (k + 1) % n;
+            if k == to {
+                return Some(d);
+            }
+            d += bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        }
+    }
+
+    /// Runs every event up to and including `t`, then brings every powered chip to `t`.
+    pub fn run_until(&mut self, t: Instant) -> Result<(), SimError> {
+        while let Some(ev) = self.queue.pop_until(t) {
+            self.now = ev.time;
+            self.stats.events += 1;
+            match ev.payload {
+                Ev::Node(j) => {
+                    if let Some(node) = self.nodes.get_mut(j) {
+                        node.wake = None;
+                    }
+                    self.advance_node(j, ev.time);
+                }
+                Ev::FaultStart(i) => self.fault_start(i, ev.time)?,
+                Ev::FaultEnd(i) => self.fault_end(i, ev.time)?,
+            }
+            self.settle()?;
+            self.recorder.flush_before(self.now)?;
+        }
+        self.now = self.now.max(t);
+        for j in 0..self.nodes.len() {
+            self.advance_node(j, t);
+        }
+        self.settle()?;
+        self.recorder.flush_before(self.now)?;
+        Ok(())
+    }
+
+    /// Ends the run and hands over the traces.
+    pub fn finish(self) -> Result<TraceOutput, SimError> {
+        self.recorder.finish(self.now)
+    }
+
+    fn touch(&mut self, j: usize) {
+        if let Some(t) = self.is_touched.get_mut(j)
+            && !*t
+        {
+            *t = true;
+            self.touched.push(j);
+        }
+    }
+
+    /// Advances node `j` to simulation time `t` (if powered) and serves it.
+    fn advance_node(&mut self, j: usize, t: Instant) {
+        let Some(node) = self.nodes.get_mut(j) else {
+            return;
+        };
+        if !node.powered {
+            return;
+        }
+        let local = node.clock.to_local(t);
+        node.chip.advance_to(local);
+        self.touch(j);
+    }
+
+    /// Serves the nodes an event touched (pins, hosts, outputs) until quiet, then
+    /// reschedules them.
+    fn settle(&mut self) -> Result<(), SimError> {
+        for _ in 0..MAX_SETTLE_ROUNDS {
+            let Some(j) = self.touched.pop() else {
+                return Ok(());
+            };
+            if let Some(t) = self.is_touched.get_mut(j) {
+                *t = false;
+            }
+            self.serve(j);
+            self.reschedule(j)?;
+        }
+        // Left over: reschedule without serving (nothing is lost; they run at their time).
+        while let Some(j) = self.touched.pop() {
+            if let Some(t) = self.is_touched.get_mut(j) {
+                *t = false;
+            }
+            self.reschedule(j)?;
+        }
+        Ok(())
+    }
+
+    /// Pin events to the VCD, host wakes, outputs to the line.
+    fn serve(&mut self, j: usize) {
+        let Some(node) = self.nodes.get_mut(j) else {
+            return;
+        };
+        if !node.powered {
+            return;
+        }
+        node.serve_host();
+        if let Some(v) = node.vcd {
+            node.chip.drain_pin_events(&mut self.pins);
+            for mut e in self.pins.drain(..) {
+                e.at = node.clock.to_global(e.at);
+                self.recorder.pin_event(v, e);
+            }
+        }
+        let mut out = std::mem::take(&mut self.buf);
+        node.chip.take_line_output(&mut out);
+        for seg in out.drain(..) {
+            self.route_output(j, seg);
+        }
+        self.buf = out;
+    }
+
+    /// A segment node `j`'s chip released (local time).
+    fn route_output(&mut self, j: usize, seg: LineSegment) {
+        let Some(node) = self.nodes.get_mut(j) else {
+            return;
+        };
+        while node.expect.front().is_some_and(|(s, _)| *s < seg.start) {
+            node.expect.pop_front();
+        }
+        let mut origin = j;
+        if let Some(&(s, o)) = node.expect.front()
+            && s == seg.start
+        {
+            node.expect.pop_front();
+            if self.delivery == Delivery::Fast {
+                // Already carried down the ring when it arrived.
+                return;
+            }
+            origin = o;
+        }
+        if matches!(seg.signal, LineSignal::Bits(_)) {
+            node.resume = seg.end();
+        }
+        let mut g = seg;
+        g.start = node.clock.to_global(g.start).max(node.out_floor);
+        node.out_floor = g.end().unwrap_or(g.start);
+        self.propagate(j, g, origin, true);
+    }
+
+    /// Carries `seg` (simulation time, at the entrance of segment `from`) down the line.
+    /// `enter`: apply the segment's break and faults (false for a break's own darkness).
+    fn propagate(&mut self, from: usize, seg: LineSegment, origin: usize, enter: bool) {
+        if matches!(self.topology, Topology::Bus { .. }) {
+            self.propagate_bus(seg, origin);
+            return;
+        }
+        let n = self.nodes.len();
+        let mut cur = from;
+        let mut seg = seg;
+        let mut enter = enter;
+        for _ in 0..n {
+            let next = (cur + 1) % n;
+            let Some(s) = self.segments.get_mut(cur) else {
+                return;
+            };
+            if enter {
+                s.last_entered = Some((seg.clone(), origin));
+                if s.faults.broken_at(seg.start) {
+                    return;
+                }
+                seg = s.faults.apply(seg);
+                if self.recorder.wants(cur) {
+                    self.recorder.observe(cur, &seg, origin_of(origin));
+                }
+            }
+            enter = true;
+            seg.start = seg.start.saturating_add(s.delay);
+            let fast = self.delivery == Delivery::Fast;
+            let Some(node) = self.nodes.get(next) else {
+                return;
+            };
+            if !node.powered_at(seg.start) {
+                return;
+            }
+            // Fast path: slaves ignore other slaves' telegrams (410B §1: "Only transmission
+            // data which is intended for the particular interface user is processed"), so
+            // a slave's ATs and filler go only to the master.
+            let deliver = !fast
+                || next == 0
+                || origin == 0
+                || !matches!(seg.signal, LineSignal::Bits(_) | LineSignal::Filler);
+            let repeating = node.repeating && next != 0;
+            if deliver {
+                self.deliver(next, seg.clone(), origin, repeating);
+            }
+            if !fast || !repeating {
+                return;
+            }
+            let Some(node) = self.nodes.get_mut(next) else {
+                return;
+            };
+            let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+            let l_out = node.clock.to_local(seg.start).saturating_add(lat);
+            seg.start = node.clock.to_global(l_out).max(node.out_floor);
+            seg.distorted = false;
+            node.out_floor = seg.end().unwrap_or(seg.start);
+            cur = next;
+        }
+    }
+
+    /// 410B Fig. 4: the bus carries own telegrams only; overlapping ones are garbled.
+    fn propagate_bus(&mut self, seg: LineSegment, origin: usize) {
+        let LineSignal::Bits(bits) = &seg.signal else {
+            return;
+        };
+        let Some(s) = self.segments.get_mut(0) else {
+            return;
+        };
+        s.last_entered = Some((seg.clone(), origin));
+        if s.faults.broken_at(seg.start) {
+            return;
+        }
+        let end = seg.end().unwrap_or(seg.start);
+        let mut seg = if seg.start < self.bus_busy_until {
+            // Two drivers at once: the levels fight; what receivers see is not the
+            // telegram (every other bit inverted), without hint.
+            self.stats.collisions += 1;
+            let mut g = BitVec::with_capacity(usize::try_from(bits.len()).unwrap_or(0));
+            for (i, b) in bits.bits().iter().enumerate() {
+                g.push(b ^ (i % 2 == 1));
+            }
+            LineSegment {
+                signal: LineSignal::Bits(Arc::new(g)),
+                hint: None,
+                ..seg
+            }
+        } else {
+            seg
+        };
+        self.bus_busy_until = self.bus_busy_until.max(end);
+        let Some(s) = self.segments.get_mut(0) else {
+            return;
+        };
+        seg = s.faults.apply(seg);
+        let delay = s.delay;
+        self.recorder.observe(0, &seg, origin_of(origin));
+        seg.start = seg.start.saturating_add(delay);
+        for i in 0..self.nodes.len() {
+            if self.nodes.get(i).is_some_and(|n| n.powered_at(seg.start)) {
+                self.deliver(i, seg.clone(), origin, false);
+            }
+        }
+    }
+
+    /// Hands `seg` (simulation time) to node `j`'s receiver.
+    fn deliver(&mut self, j: usize, seg: LineSegment, origin: usize, repeating: bool) {
+        let Some(node) = self.nodes.get_mut(j) else {
+            return;
+        };
+        let mut local = seg;
+        local.start = node.clock.to_local(local.start);
+        if local.start < node.in_floor {
+            self.stats.out_of_order += 1;
+            match local.from_instant(node.in_floor) {
+                Some(s) => local = s,
+                None => return,
+            }
+        }
+        node.in_floor = local.start;
+        if repeating {
+            let lat = local.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+            node.expect
+                .push_back((local.start.saturating_add(lat), origin));
+        }
+        node.chip.line_input(local);
+        self.stats.deliveries += 1;
+        self.touch(j);
+    }
+
+    /// Schedules node `j`'s next wake.
+    fn reschedule(&mut self, j: usize) -> Result<(), SimError> {
+        let now = self.now;
+        let exact = self.delivery == Delivery::Exact;
+        let Some(node) = self.nodes.get_mut(j) else {
+            return Ok(());
+        };
+        let mut next: Option<Instant> = None;
+        if node.powered {
+            let chip_now = node.chip.now();
+            let mut cand = |t: Option<Instant>| {
+                if let Some(t) = t {
+                    next = Some(next.map_or(t, |n: Instant| n.min(t)));
+                }
+            };
+            cand(node.chip.next_deadline());
+            cand(node.host_deadline);
+            cand(node.resume.filter(|r| *r > chip_now));
+            let out = node.chip.next_line_output_at();
+            let expected = node.expect.front().map(|e| e.0);
+            if exact || out != expected {
+                cand(out);
+            }
+        }
+        let global = next.map(|l| node.clock.to_global(l).max(now));
+        if node.wake.map(|w| w.0) == global {
+            return Ok(());
+        }
+        if let Some((_, h)) = node.wake.take() {
+            self.queue.cancel(h);
+        }
+        if let Some(g) = global {
+            // A deadline that does not move on would be served again at once: one picosecond
+            // later at least, so that time always advances.
+            let g = if g <= node.clock.to_global(node.chip.now()) && g <= now {
+                now.saturating_add(Duration::from_picos(1))
+            } else {
+                g
+            };
+            let h = self.queue.schedule(
+                g,
+                ComponentId(u32::try_from(j).unwrap_or(u32::MAX)),
+                Ev::Node(j),
+            )?;
+            node.wake = Some((g, h));
+        }
+        Ok(())
+    }
+
+    fn fault_start(&mut self, i: usize, t: Instant) -> Result<(), SimError> {
+        let Some(f) = self.faults.get(i).copied() else {
+            return Ok(());
+        };
+        match f.kind {
+            FaultKind::FibreBreak { segment, .. } => {
+                // The fibre goes dark at its far end after the delay.
+                let dark = LineSegment::steady(t, Duration::ZERO, LineSignal::Dark, false);
+                let dark = LineSegment {
+                    bit_time: self.bit_time_hint(segment),
+                    ..dark
+                };
+                self.propagate(segment, dark, segment, false);
+            }
+            FaultKind::PowerOff { node, .. } => {
+                for k in 0..self.nodes.len() {
+                    self.advance_node(k, t);
+                }
+                self.settle()?;
+                if let Some(n) = self.nodes.get_mut(node) {
+                    n.powered = false;
+                    if let Some((_, h)) = n.wake.take() {
+                        self.queue.cancel(h);
+                    }
+                    n.expect.clear();
+                    n.out_floor = n.out_floor.max(t);
+                }
+                // Its transmitter goes dark.
+                let dark =
+                    LineSegment::steady(t, self.bit_time_hint(node), LineSignal::Dark, false);
+                self.propagate(node, dark, node, true);
+            }
+            FaultKind::ClockDrift { node, ppm } => {
+                self.advance_node(node, t);
+                if let Some(n) = self.nodes.get_mut(node) {
+                    n.clock.set_error_ppb(t, ppm_to_ppb(ppm));
+                }
+                self.touch(node);
+            }
+            FaultKind::BitErrors { .. }
+            | FaultKind::BitErrorBurst { .. }
+            | FaultKind::Distortion { .. } => {}
+        }
+        Ok(())
+    }
+
+    fn fault_end(&mut self, i: usize, t: Instant) -> Result<(), SimError> {
+        let Some(f) = self.faults.get(i).copied() else {
+            return Ok(());
+        };
+        match f.kind {
+            FaultKind::FibreBreak { segment, .. } => {
+                if let Some((seg, origin)) = self.current_entering(segment, t) {
+                    self.propagate(segment, seg, origin, true);
+                }
+            }
+            FaultKind::PowerOff { node, .. } => {
+                let n_nodes = self.nodes.len();
+                let Some(n) = self.nodes.get_mut(node) else {
+                    return Ok(());
+                };
+                // A fresh chip out of reset; its host configures it again.
+                let cfg: ChipConfig = n.cfg.chip;
+                n.chip = Chip::new(cfg);
+                let local = n.clock.to_local(t);
+                n.chip.advance_to(local);
+                if let Some(v) = n.vcd {
+                    let _ = v;
+                }
+                n.powered = true;
+                n.expect.clear();
+                n.resume = None;
+                n.in_floor = local;
+                n.host_deadline = None;
+                n.ints = (
+                    n.chip.pin_level(sercon_model::pins::Pin::Int0),
+                    n.chip.pin_level(sercon_model::pins::Pin::Int1),
+                );
+                n.run_host(Wake::PowerOn);
+                n.repeating = repeats(&mut n.chip);
+                self.touch(node);
+                // What the line upstream carries now reaches the fresh receiver.
+                let up = (node + n_nodes - 1) % n_nodes;
+                let up = if matches!(self.topology, Topology::Bus { .. }) {
+                    0
+                } else {
+                    up
+                };
+                let delay = self.segments.get(up).map_or(Duration::ZERO, |s| s.delay);
+                let at = Instant::from_picos(t.as_picos().saturating_sub(delay.as_picos()));
+                if !matches!(self.topology, Topology::Bus { .. })
+                    && let Some((seg, origin)) = self.current_entering(up, at)
+                {
+                    self.propagate(up, seg, origin, true);
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// The signal entering segment `k` from `t` on, as a segment starting at `t`.
+    fn current_entering(&self, k: usize, t: Instant) -> Option<(LineSegment, usize)> {
+        let (last, origin) = self.segments.get(k)?.last_entered.clone()?;
+        if last.start >= t {
+            return Some((last, origin));
+        }
+        let seg = match last.from_instant(t) {
+            Some(s) => s,
+            None => {
+                let signal = if last.level_at(t) {
+                    LineSignal::Light
+                } else {
+                    LineSignal::Dark
+                };
+                LineSegment::steady(t, last.bit_time, signal, last.level_at(t))
+            }
+        };
+        Some((seg, origin))
+    }
+
+    /// The bit time last seen entering segment `k` (for steady segments the fault makes).
+    fn bit_time_hint(&self, k: usize) -> Duration {
+        self.segments
+            .get(k)
+            .and_then(|s| s.last_entered.as_ref())
+            .map_or(Duration::ZERO, |(s, _)| s.bit_time)
+    }
+}
+
+/// Node 0 is the master; everyone else a slave.
+fn origin_of(node: usize) -> Origin {
+    if node == 0 {
+        Origin::Master
+    } else {
+        Origin::Slave
+    }
+}
+
+fn check_fault(f: &Fault, nodes: usize, segments: usize) -> Result<(), SimError> {
+    let (what, index, limit) = match f.kind {
+        FaultKind::FibreBreak { segment, .. }
+        | FaultKind::BitErrors { segment, .. }
+        | FaultKind::BitErrorBurst { segment, .. }
+        | FaultKind::Distortion { segment, .. } => ("segment", segment, segments),
+        FaultKind::PowerOff { node, .. } | FaultKind::ClockDrift { node, .. } => {
+            ("node", node, nodes)
+        }
+    };
+    if index >= limit {
+        return Err(SimError::NoSuchTarget { what, index });
+    }
+    Ok(())
+}

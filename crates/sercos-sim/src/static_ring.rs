@@ -1,0 +1,334 @@
+//! A configured phase-4 ring of one master and n slaves whose hosts write static RAM images
+//! at start (drivers come later): transmission blocks per 410B §4.2, registers per §4.1.
+//!
+//! Layout (`docs/spec-notes.md`, "Ring simulation"): the master sends one broadcast MDT
+//! (ADR 255) whose single container holds every slave's record (`mdt_words` per slave) and
+//! receives one AT per slave; each slave receives its record from the MDT (POS) and sends
+//! its AT. Where the RAM is too small (254 slaves), the master's AT containers have LEN 0
+//! (the telegrams are checked, VAL/RERR/NERR, but not stored) and, if still needed, the MDT
+//! container is shorter than the telegram (410B §4.2.2: the rest goes out as 0).
+
+use sercon_model::ChipConfig;
+use sercon_model::config::Straps;
+use sercon_regs::Register;
+use sercon_regs::ram::container::ContainerControl;
+use sercon_regs::ram::header::{EndMarker, RxHeader, TxEnable, TxHeader};
+use sercos_wire::time::{BitRate, Duration};
+
+use crate::config::{Delivery, NodeConfig, SimConfig, TraceConfig};
+use crate::error::SimError;
+use crate::host::{Access, HostProgram, StaticImageHost};
+use crate::topology::Topology;
+
+/// 410B §4.1 0CH.0 MSTEN, 0CH.1 MSTMASTER, 0CH.10 CYCSTART.
+const MSTEN: u16 = 1 << 0;
+const MSTMASTER: u16 = 1 << 1;
+const CYCSTART: u16 = 1 << 10;
+/// 410B §4.1 3H.8 ENTMT.
+const ENTMT: u16 = 1 << 8;
+/// 410B §4.1 1H.3 REPON, 1H.10 ENTSBAUD, 1H.6 SWBAUD; 816 table 2.3.1 1H.15 SWBAUD16.
+const REPON: u16 = 1 << 3;
+const ENTSBAUD: u16 = 1 << 10;
+const SWBAUD: u16 = 1 << 6;
+const SWBAUD16: u16 = 1 << 15;
+/// First header: after the eleven fixed words (410B §4.2), at 16.
+const FIRST_HEADER: u16 = 16;
+/// MDT starts this long after the end of the MST (µs, TRT).
+const MDT_TRT_US: u16 = 4;
+/// Gap between telegrams (µs).
+const GAP_US: u64 = 2;
+
+/// A static ring to build.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticRing {
+    /// Slaves 1..=n (at most 254).
+    pub slaves: usize,
+    /// Line bit rate (816 §2.3.1).
+    pub bit_rate: BitRate,
+    /// Communication cycle in µs (TSCYC0).
+    pub cycle_us: u16,
+    /// MDT data words per slave.
+    pub mdt_words: u16,
+    /// AT data words per slave.
+    pub at_words: u16,
+    /// Length of every fibre in metres.
+    pub fibre_m: u32,
+    /// Reference or fast delivery.
+    pub delivery: Delivery,
+    /// Seed.
+    pub seed: u64,
+}
+
+impl StaticRing {
+    /// `slaves` slaves at 16 Mbit/s, `cycle_us`, 8 data words each way, 10 m fibres.
+    pub fn new(slaves: usize, cycle_us: u16) -> Self {
+        StaticRing {
+            slaves,
+            bit_rate: BitRate::Mbit16,
+            cycle_us,
+            mdt_words: 8,
+            at_words: 8,
+            fibre_m: 10,
+            delivery: Delivery::Fast,
+            seed: 1,
+        }
+    }
+}
+
+/// Where things are and when they happen in a built ring.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RingPlan {
+    /// TRT of the MDT (µs after the end of the MST).
+    pub mdt_trt_us: u16,
+    /// TRT of slave i's AT at index i − 1 (µs after the end of the MST at that slave).
+    pub at_trt_us: Vec<u16>,
+    /// Words of the MDT telegram (TLEN).
+    pub mdt_tlen: u16,
+    /// Master: the MDT's data words in RAM (from the start of the MDT container data).
+    pub master_mdt_data: u16,
+    /// Words of the MDT container (≤ TLEN).
+    pub mdt_container_len: u16,
+    /// Master: receive header of slave i's AT at index i − 1.
+    pub master_at_header: Vec<u16>,
+    /// Master: first data word of slave i's AT, when stored.
+    pub master_at_data: Vec<Option<u16>>,
+    /// Slave: its MDT receive header.
+    pub slave_mdt_header: u16,
+    /// Slave: its MDT record.
+    pub slave_mdt_data: u16,
+    /// Slave: its AT data.
+    pub slave_at_data: u16,
+}
+
+/// The value slave `i` sends in AT word `k` (a recognisable pattern).
+pub fn at_pattern(slave: usize, k: u16) -> u16 {
+    0xA000 | ((slave as u16 & 0xFF) << 4) | (k & 0xF)
+}
+
+/// The value the master sends to slave `i` in MDT word `k`.
+pub fn mdt_pattern(slave: usize, k: u16) -> u16 {
+    0x5000 | ((slave as u16 & 0xFF) << 4) | (k & 0xF)
+}
+
+/// Upper bound of a frame's line bits for `bytes` telegram bytes: two flags and every byte
+/// (with the FCS) stuffed at worst (a 0 after five 1s).
+pub fn worst_frame_bits(bytes: u64) -> u64 {
+    16 + ((bytes + 2) * 8 * 6).div_ceil(5)
+}
+
+fn ctrl(len: u16, lastdc: bool) -> Result<u16, SimError> {
+    ContainerControl::new(len, false, 0, false, lastdc)
+        .map(|c| c.to_word())
+        .map_err(|e| SimError::Layout(format!("container: {e}")))
+}
+
+fn reg(r: Register, value: u16) -> Access {
+    Access::Register {
+        address: r.address(),
+        value,
+    }
+}
+
+/// 1H for `rate` by software (816 table 2.3.1, ENTSBAUD = 1).
+fn reg1(rate: BitRate, repon: bool) -> u16 {
+    let rate_bits = match rate {
+        BitRate::Mbit2 => SWBAUD16 | SWBAUD,
+        BitRate::Mbit4 => SWBAUD16,
+        BitRate::Mbit8 => SWBAUD,
+        BitRate::Mbit16 => 0,
+    };
+    ENTSBAUD | rate_bits | if repon { REPON } else { 0 }
+}
+
+impl StaticRing {
+    /// The simulation configuration (SERCON816s, no faults, no traces), one static host per
+    /// node, and the plan.
+    pub fn build(&self) -> Result<(SimConfig, Vec<Box<dyn HostProgram>>, RingPlan), SimError> {
+        let n = self.slaves;
+        if n == 0 || n > crate::config::MAX_SLAVES {
+            return Err(SimError::TooManySlaves(n));
+        }
+        let n16 = n as u16;
+        let mut chip = ChipConfig::sercon816();
+        // 816 §2.3.3: TM0 = TM1 = 1, no test mode (REPON = 1 after reset).
+        chip.straps = Straps {
+            sbaud: false,
+            sbaud16: false,
+            tm0: true,
+            tm1: true,
+        };
+        let ram = chip.variant.ram_words();
+        let bt = self.bit_rate.bit_time();
+        let us = |bits: u64| -> u64 { bt.saturating_mul(bits).as_picos().div_ceil(1_000_000) };
+        // Timing (µs after the end of the MST at each node).
+        let mdt_tlen = n16
+            .checked_mul(self.mdt_words)
+            .ok_or_else(|| SimError::Layout("MDT too long".into()))?;
+        let mdt_us = us(worst_frame_bits(1 + 2 * u64::from(mdt_tlen)));
+        let at_us = us(worst_frame_bits(1 + 2 * u64::from(self.at_words)));
+        let mut t = u64::from(MDT_TRT_US) + mdt_us + GAP_US;
+        let mut at_trt = Vec::with_capacity(n);
+        for _ in 0..n {
+            at_trt.push(u16::try_from(t).map_err(|_| SimError::Layout("TRT overflow".into()))?);
+            t += at_us + GAP_US;
+        }
+        let ring_us = (Duration::from_nanos(5)
+            .saturating_mul(u64::from(self.fibre_m) * (n as u64 + 1))
+            + bt.saturating_mul(2 * n as u64))
+        .as_picos()
+        .div_ceil(1_000_000);
+        let mst_us = us(worst_frame_bits(2));
+        if mst_us + t + ring_us > u64::from(self.cycle_us) {
+            return Err(SimError::Layout(format!(
+                "{} slaves need {} µs, cycle is {} µs",
+                n,
+                mst_us + t + ring_us,
+                self.cycle_us
+            )));
+        }
+        // Master RAM: MDT header, container, data; AT headers and containers; end marker.
+        let fixed = u32::from(FIRST_HEADER) + 4 + 1 + 2;
+        let at_full = 7 + u32::from(self.at_words);
+        let (at_stored, mdt_len) = {
+            let need_full = fixed + u32::from(mdt_tlen) + n as u32 * at_full;
+            let need_min = fixed + n as u32 * 7;
+            if need_full <= u32::from(ram) {
+                (true, mdt_tlen)
+            } else if need_min + u32::from(mdt_tlen) <= u32::from(ram) {
+                (false, mdt_tlen)
+            } else if need_min < u32::from(ram) {
+                (false, (u32::from(ram) - need_min) as u16)
+            } else {
+                return Err(SimError::Layout(format!(
+                    "{n} slaves do not fit the master RAM"
+                )));
+            }
+        };
+        let variant = chip.variant;
+        let mut m_words: Vec<(u16, Vec<u16>)> = vec![(0, vec![FIRST_HEADER, FIRST_HEADER])];
+        let mdt_at = FIRST_HEADER;
+        let mut p = mdt_at + 4 + 1 + mdt_len;
+        let mdt = TxHeader {
+            adr: 255,
+            en: TxEnable::Continuous,
+            trt: MDT_TRT_US,
+            tlen: mdt_tlen,
+            pt: p,
+            ..TxHeader::default()
+        };
+        let mut w = mdt.to_words(variant).to_vec();
+        w.push(ctrl(mdt_len, true)?);
+        for i in 0..mdt_len {
+            let slave = usize::from(i / self.mdt_words.max(1)) + 1;
+            w.push(mdt_pattern(slave, i % self.mdt_words.max(1)));
+        }
+        m_words.push((mdt_at, w));
+        let mut plan = RingPlan {
+            mdt_trt_us: MDT_TRT_US,
+            at_trt_us: at_trt.clone(),
+            mdt_tlen,
+            master_mdt_data: mdt_at + 5,
+            mdt_container_len: mdt_len,
+            master_at_header: Vec::with_capacity(n),
+            master_at_data: Vec::with_capacity(n),
+            slave_mdt_header: FIRST_HEADER,
+            slave_mdt_data: FIRST_HEADER + 7,
+            slave_at_data: FIRST_HEADER + 7 + self.mdt_words + 5,
+        };
+        for (i, trt) in at_trt.iter().enumerate() {
+            let len = if at_stored { self.at_words } else { 0 };
+            let next = p + 7 + len;
+            let h = RxHeader {
+                adr: (i + 1) as u8,
+                achk: true,
+                trt: *trt,
+                tlen: self.at_words,
+                pt: next,
+                ..RxHeader::default()
+            };
+            let mut w = h.to_words(variant).to_vec();
+            w.extend([ctrl(len, true)?, 0]);
+            w.extend(std::iter::repeat_n(0, usize::from(len)));
+            plan.master_at_header.push(p);
+            plan.master_at_data.push(at_stored.then_some(p + 7));
+            m_words.push((p, w));
+            p = next;
+        }
+        m_words.push((p, EndMarker::default().to_words().to_vec()));
+        let rate1 = |repon| reg1(self.bit_rate, repon);
+        let common = |repon: bool| {
+            vec![
+                // 410B §4.1 0EH MCLKDIV: 32 MHz / (31 + 1) = 1 µs predivider (816 §2.11.1.2).
+                reg(Register::MclkDiv, 31),
+                reg(Register::Ctrl1, rate1(repon)),
+                reg(Register::Tscyc0, self.cycle_us),
+                reg(Register::Ctrl3, ENTMT),
+            ]
+        };
+        let mut hosts: Vec<Box<dyn HostProgram>> = Vec::with_capacity(n + 1);
+        let mut nodes = Vec::with_capacity(n + 1);
+        let mut acc: Vec<Access> = m_words
+            .into_iter()
+            .map(|(address, words)| Access::Ram { address, words })
+            .collect();
+        acc.extend(common(false));
+        // 410B §4.1 0AH PHAS0 = 4 (phase 4), 0CH: master, cycles from now.
+        acc.push(reg(Register::Phas, 0x0404));
+        acc.push(reg(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART));
+        hosts.push(Box::new(StaticImageHost { accesses: acc }));
+        nodes.push(NodeConfig::new("master", chip));
+        for i in 1..=n {
+            let s0 = FIRST_HEADER;
+            let s1 = s0 + 5 + 2 + self.mdt_words;
+            let s2 = s1 + 4 + 1 + self.at_words;
+            let mdt_rx = RxHeader {
+                adr: 255,
+                achk: true,
+                trt: MDT_TRT_US,
+                tlen: mdt_tlen,
+                pt: s1,
+                ..RxHeader::default()
+            };
+            let mut w = mdt_rx.to_words(variant).to_vec();
+            w.extend([ctrl(self.mdt_words, true)?, (i as u16 - 1) * self.mdt_words]);
+            w.extend(std::iter::repeat_n(0, usize::from(self.mdt_words)));
+            let at = TxHeader {
+                adr: i as u8,
+                en: TxEnable::Continuous,
+                trt: at_trt.get(i - 1).copied().unwrap_or(0),
+                tlen: self.at_words,
+                pt: s2,
+                ..TxHeader::default()
+            };
+            w.extend(at.to_words(variant));
+            w.push(ctrl(self.at_words, true)?);
+            w.extend((0..self.at_words).map(|k| at_pattern(i, k)));
+            w.extend(EndMarker::default().to_words());
+            let mut acc = vec![
+                Access::Ram {
+                    address: 0,
+                    words: vec![s0, s0],
+                },
+                Access::Ram {
+                    address: s0,
+                    words: w,
+                },
+            ];
+            acc.extend(common(true));
+            // Slave: PHAS0 ignored (FFH), SERCOS slave (MSTEN, 410B §4.1 0CH.0).
+            acc.push(reg(Register::Phas, 0xFF04));
+            acc.push(reg(Register::Ctrl0C, MSTEN));
+            hosts.push(Box::new(StaticImageHost { accesses: acc }));
+            nodes.push(NodeConfig::new(&format!("slave{i}"), chip));
+        }
+        let cfg = SimConfig {
+            topology: Topology::ring(n + 1, self.fibre_m),
+            nodes,
+            faults: Vec::new(),
+            seed: self.seed,
+            delivery: self.delivery,
+            traces: TraceConfig::default(),
+        };
+        Ok((cfg, hosts, plan))
+    }
+}
