@@ -8,9 +8,9 @@ use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
 
 /// A master sending only MSTs (phase `phase`) every 100 µs and a slave expecting
 /// PHAS0 = 4; both blocks are just an end marker.
-fn mst_ring(phase: u16) -> Ring {
-    let mut m = chip(Variant::Sercon816);
-    let mut s = chip(Variant::Sercon816);
+fn mst_ring_on(variant: Variant, phase: u16) -> Ring {
+    let mut m = chip(variant);
+    let mut s = chip(variant);
     for c in [&mut m, &mut s] {
         c.write_ram(0, 16);
         end_marker(c, 16);
@@ -23,6 +23,10 @@ fn mst_ring(phase: u16) -> Ring {
     m.write(Register::Phas, 0xFF00 | phase);
     m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
     Ring::new(m, s)
+}
+
+fn mst_ring(phase: u16) -> Ring {
+    mst_ring_on(Variant::Sercon816, phase)
 }
 
 #[test]
@@ -80,4 +84,48 @@ fn late_and_early_msts_with_msttchk() {
     ring.master.write(Register::Tscyc0, 90);
     ring.run_to(us(260));
     assert_ne!(ring.slave.read(Register::IntFlagsLo) & (1 << 7), 0);
+}
+
+#[test]
+fn mst_loss_and_late_mst_on_the_line_on_both_variants() {
+    // 410B §4.2 NMSTERR, 4H.9 INT_MSTMIS; 25H.10 MSTTCHK with 16H JTSCYC2, 4H.8 INT_MSTLATE.
+    // The 410B runs at 4 Mbit/s (its MST lasts 12 µs), the 816 at 16 Mbit/s.
+    for variant in Variant::ALL {
+        // Two MSTs lost on the fibre (master telegrams 1 and 2: no MDTs in this ring).
+        let mut ring = mst_ring_on(variant, 4);
+        ring.drop_master = vec![1, 2];
+        ring.run_to(us(350));
+        assert_eq!(ring.slave.read_ram(10), 2, "{variant:?}");
+        let lo = ring.slave.read(Register::IntFlagsLo);
+        assert_ne!(lo & (1 << 9), 0, "{variant:?} INT_MSTMIS");
+        // The MST after the loss is good again: PHASREC holds its phase.
+        assert_eq!(ring.slave.read(Register::PhasRec) & 0xFF, 4);
+        // One lost MST is counted but not reported twice-missing.
+        let mut ring = mst_ring_on(variant, 4);
+        ring.drop_master = vec![1];
+        ring.run_to(us(350));
+        assert_eq!(ring.slave.read_ram(10), 1, "{variant:?}");
+        assert_eq!(
+            ring.slave.read(Register::IntFlagsLo) & (1 << 9),
+            0,
+            "{variant:?}"
+        );
+        // A late MST: the master's cycle grows by more than JTSCYC2 = 3 µs.
+        let mut ring = mst_ring_on(variant, 4);
+        ring.run_to(us(150));
+        assert_eq!(
+            ring.slave.read(Register::IntFlagsLo) & (3 << 7),
+            0,
+            "{variant:?}"
+        );
+        ring.master.write(Register::Tscyc0, 105);
+        ring.run_to(us(260));
+        let lo = ring.slave.read(Register::IntFlagsLo);
+        assert_ne!(lo & (1 << 8), 0, "{variant:?} INT_MSTLATE");
+        assert_eq!(lo & (1 << 7), 0, "{variant:?} not early");
+        // Later than TSCYC + JTSCYC2 the window has closed: counted missing once (spec-notes
+        // "MST"), not twice.
+        assert_eq!(ring.slave.read_ram(10), 1, "{variant:?}");
+        assert_eq!(lo & (1 << 9), 0, "{variant:?} no INT_MSTMIS");
+    }
 }

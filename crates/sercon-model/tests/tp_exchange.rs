@@ -38,8 +38,15 @@ struct Layout {
 /// Phase 4, one slave (address 1): broadcast MDT of 8 words at TRT 5, AT of 8 words at
 /// TRT 40, cycle 100 µs; MDT/AT with buffering `b` on the receive and transmit side.
 fn phase4(variant: Variant, b: Buf) -> (Ring, Layout) {
+    phase4_timed(variant, b, 40, 100)
+}
+
+/// [`phase4`] with the AT at TRT `at_trt` and a cycle of `tscyc` µs.
+fn phase4_timed(variant: Variant, b: Buf, at_trt: u16, tscyc: u16) -> (Ring, Layout) {
     let mut m = chip(variant);
     let mut s = chip(variant);
+    m.write(Register::Tscyc0, tscyc);
+    s.write(Register::Tscyc0, tscyc);
     let dw = data_words(b);
     let dma = b == Buf::Dma;
     let dbuf = b == Buf::Double;
@@ -52,7 +59,7 @@ fn phase4(variant: Variant, b: Buf) -> (Ring, Layout) {
     tx_header(&mut m, 16, h);
     m.write_ram(20, control(8, true));
     let p2 = p1 + 5 + 2 + dw;
-    let mut r = rx(1, true, 40, 8, p2);
+    let mut r = rx(1, true, at_trt, 8, p2);
     r.dma = dma;
     r.dbuf = dbuf;
     rx_header(&mut m, p1, r);
@@ -67,7 +74,7 @@ fn phase4(variant: Variant, b: Buf) -> (Ring, Layout) {
     rx_header(&mut s, 16, r);
     s.write_ram_words(21, &[control(8, true), 0]);
     let q2 = q1 + 4 + 1 + dw;
-    let mut h = tx(1, TxEnable::Continuous, 40, 8, q2);
+    let mut h = tx(1, TxEnable::Continuous, at_trt, 8, q2);
     h.dma = dma;
     h.dbuf = dbuf;
     tx_header(&mut s, q1, h);
@@ -244,4 +251,88 @@ fn corrupted_mdt_sets_rerr_counts_nerr_and_keeps_data() {
     let h = RxHeader::decode(Variant::Sercon816, &words(&mut ring.slave, l.s_mdt_hdr, 5)).unwrap();
     assert!(!h.rerr && h.nerr == 1);
     assert_eq!(words(&mut ring.slave, l.s_mdt_data, 8)[0], 0x6600);
+}
+
+#[test]
+fn phase4_exchange_on_the_410b_at_4_mbit_single_double_and_dma() {
+    // 410B §4.2.1/§4.2.2 on the 410B at 4 Mbit/s (SCLK/16, 410B §2 SBAUD): an 8-word MDT
+    // lasts about 45 µs, so the AT goes at TRT 60 in a 150 µs cycle. Single and double
+    // buffer store by POS/LEN and set VAL; DMA goes through the FIFOs (§2 DMAREQT/DMAREQR).
+    for b in [Buf::Single, Buf::Double, Buf::Dma] {
+        let (mut ring, l) = phase4_timed(Variant::Sercon410b, b, 60, 150);
+        let at: Vec<u16> = (0..8).map(|i| 0x2200 + i).collect();
+        let mdt: Vec<u16> = (0..8).map(|i| 0x1100 + i).collect();
+        if b != Buf::Dma {
+            ring.master.write_ram_words(l.m_mdt_data, &mdt);
+            ring.slave.write_ram_words(l.s_at_data, &at);
+        }
+        let mut got_at = Vec::new();
+        let mut got_mdt = Vec::new();
+        for t in 1..=600u64 {
+            ring.run_to(us(t));
+            if b == Buf::Dma {
+                // 410B §2 DMAREQT: a DMA controller writes the transmit data on request.
+                if ring.master.pin_level(Pin::DmaReqT) {
+                    mdt.iter().for_each(|w| ring.master.dma_write_transmit(*w));
+                }
+                if ring.slave.pin_level(Pin::DmaReqT) {
+                    at.iter().for_each(|w| ring.slave.dma_write_transmit(*w));
+                }
+                while ring.master.pin_level(Pin::DmaReqR) {
+                    got_at.push(ring.master.dma_read_receive());
+                }
+                while ring.slave.pin_level(Pin::DmaReqR) {
+                    got_mdt.push(ring.slave.dma_read_receive());
+                }
+            }
+        }
+        if b == Buf::Dma {
+            assert!(
+                got_at.len() >= 16 && got_mdt.len() >= 16,
+                "{got_at:?} {got_mdt:?}"
+            );
+            assert_eq!(&got_at[..8], &at[..]);
+            assert_eq!(&got_mdt[..8], &mdt[..]);
+        } else {
+            // Double buffer: the 4 cycles received alternate buffers; VAL names the last.
+            let h = RxHeader::decode(Variant::Sercon410b, &words(&mut ring.slave, l.s_mdt_hdr, 5))
+                .unwrap();
+            let off = if b == Buf::Double && h.val { 8 } else { 0 };
+            assert_eq!(words(&mut ring.slave, l.s_mdt_data + off, 8), mdt, "{b:?}");
+            let h2 = RxHeader::decode(Variant::Sercon410b, &words(&mut ring.master, l.m_at_hdr, 5))
+                .unwrap();
+            let off = if b == Buf::Double && h2.val { 8 } else { 0 };
+            assert_eq!(words(&mut ring.master, l.m_at_data + off, 8), at, "{b:?}");
+            assert!(
+                !h.rerr && h.nerr == 0 && !h2.rerr && h2.nerr == 0,
+                "{h:?} {h2:?}"
+            );
+            if b == Buf::Single {
+                assert!(h.val && h2.val);
+            }
+        }
+        assert_eq!(ring.master.read(Register::ProgerrFl), 0, "{b:?}");
+        assert_eq!(ring.slave.read(Register::ProgerrFl), 0, "{b:?}");
+    }
+}
+
+#[test]
+fn corrupted_mdt_on_the_410b_sets_rerr_and_int_rerr() {
+    // 410B §4.2.1 RERR, NERR; §4.1 4H.15 INT_RERR: the corrupted bits reach the 410B's
+    // decoder (no hint), which reports an FCS error; the data stay unchanged.
+    let (mut ring, l) = phase4_timed(Variant::Sercon410b, Buf::Single, 60, 150);
+    let mdt = fill(&mut ring.master, l.m_mdt_data, 0x5500);
+    ring.corrupt_master = vec![3];
+    ring.run_to(us(200));
+    assert_eq!(words(&mut ring.slave, l.s_mdt_data, 8), mdt);
+    fill(&mut ring.master, l.m_mdt_data, 0x6600);
+    ring.run_to(us(290));
+    let h = RxHeader::decode(Variant::Sercon410b, &words(&mut ring.slave, l.s_mdt_hdr, 5)).unwrap();
+    assert!(h.rerr && h.nerr == 1, "{h:?}");
+    assert_eq!(words(&mut ring.slave, l.s_mdt_data, 8), mdt);
+    assert_ne!(ring.slave.read(Register::IntFlagsLo) & (1 << 15), 0);
+    assert!(
+        ring.received[1].iter().any(|f| !f.fcs_ok),
+        "the slave saw an errored frame"
+    );
 }
