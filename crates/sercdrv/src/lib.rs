@@ -2,4 +2,5 @@
 pub mod idn_store;
 pub mod ram_layout;
 pub mod service_channel;
+pub mod slave;
 pub mod timing;

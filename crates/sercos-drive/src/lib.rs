@@ -6,12 +6,14 @@
 //! * [`config_file`]: loading a database from a TOML file;
 //! * [`telegram_layout`]: the cyclic data of MDT and AT records from S-0-0015/16/24;
 //! * [`motion`]: the axis (first-order velocity loop, integrated position);
-//! * [`drive::EmulatedDrive`]: all of it driven by the control word, with time injected.
+//! * [`drive::EmulatedDrive`]: all of it driven by the control word, with time injected;
+//! * [`node::DriveNode`]: the drive behind a SERCDRV slave, a `HostProgram` for the ring.
 
 pub mod config_file;
 pub mod database;
 pub mod drive;
 pub mod motion;
+pub mod node;
 pub mod parameter;
 pub mod procedure;
 pub mod telegram_layout;
