@@ -1,0 +1,117 @@
+//! What the master is told: chip, line, cycle, drives and the cyclic data of each telegram.
+
+use sercon_regs::Variant;
+use sercon_regs::ram::header::Buffering;
+use sercos_wire::address::DriveAddress;
+use sercos_wire::idn::Idn;
+use sercos_wire::time::{BitRate, Duration};
+
+use crate::ram_layout::DEFAULT_SERVICE_BUFFER_WORDS;
+use crate::service_channel::ContainerSlot;
+use crate::timing::{MdtPlacement, TimingRules};
+
+/// S-0-0015 value "telegram type 7: configured by S-0-0016 and S-0-0024" (sercos-facts.md,
+/// "Timing parameters" table: "0–6 standard, 7 configured").
+pub const TELEGRAM_TYPE_CONFIGURED: u16 = 7;
+
+/// The master's configuration. [`MasterConfig::capture_ring`] reproduces the captures'
+/// master (Beckhoff FC7502 with four drives, `../shared/captures/README.md`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MasterConfig {
+    /// The controller the driver expects (checked against register VERSION, 816 §2.11.1.1).
+    pub variant: Variant,
+    /// MCLK in Hz; the predivider is set to `f_MCLK / 1 MHz − 1` (410B §4.1 0EH).
+    pub mclk_hz: u32,
+    /// The line's bit rate (set through ENTSBAUD/SWBAUD/SWBAUD16 for SCLK = 64 MHz, 816
+    /// §2.3.1 table).
+    pub bit_rate: BitRate,
+    /// S-0-0002, communication cycle time tScyc, µs (TSCYC0/1, 410B §4.1 0FH/10H).
+    #[doc(alias = "S-0-0002")]
+    pub cycle_us: u32,
+    /// S-0-0001, NC cycle time, µs (a whole multiple of tScyc).
+    #[doc(alias = "S-0-0001")]
+    pub nc_cycle_us: u32,
+    /// The drives' addresses in the order of their ATs (at most eight: one service
+    /// container each, 410B §4.2 SCPT0-7).
+    pub drives: Vec<DriveAddress>,
+    /// S-0-0015, the telegram type written to every drive; only type 7 (configured) is
+    /// supported, its data being given by the two lists.
+    #[doc(alias = "S-0-0015")]
+    pub telegram_type: u16,
+    /// S-0-0016, the AT configuration list (feedback IDNs, in order).
+    #[doc(alias = "S-0-0016")]
+    pub at_list: Vec<Idn>,
+    /// S-0-0024, the MDT configuration list (command IDNs, in order).
+    #[doc(alias = "S-0-0024")]
+    pub mdt_list: Vec<Idn>,
+    /// Buffering of the cyclic data in phases 3-4 (410B §4.2.1 DMA/DBUF; DMA not supported
+    /// by the driver).
+    pub buffering: Buffering,
+    /// Gap and MDT placement for the timing plan.
+    pub timing_rules: TimingRules,
+    /// Cycles the ring must be seen closed in phase 0 before phase 1.
+    pub phase0_cycles: u32,
+    /// Rounds of phase 1 (one MDT to every drive per round).
+    pub phase1_rounds: u32,
+    /// Rounds of phase 1 after which a drive that never answered is reported missing.
+    pub detect_rounds: u32,
+    /// Cycles in a row without any AT in phases 3-4 after which the MST is taken as lost.
+    pub mst_loss_cycles: u32,
+    /// Time limit of one service-channel request (injected time, never a clock).
+    pub service_timeout: Duration,
+    /// Polls of a procedure command's status before it is reported as failing.
+    pub command_polls: u32,
+    /// Words of each service container's buffer (410B §4.2.4 BUFLEN).
+    pub service_buffer_words: u16,
+}
+
+impl MasterConfig {
+    /// A master of `variant` for `drives` at `bit_rate` and `cycle_us`, with the captures'
+    /// telegram configuration (type 7, S-0-0016 = [S-0-0011, S-0-0051, P-0-0019], S-0-0024
+    /// = [S-0-0036]) and single buffering.
+    pub fn new(
+        variant: Variant,
+        bit_rate: BitRate,
+        cycle_us: u32,
+        drives: Vec<DriveAddress>,
+    ) -> MasterConfig {
+        MasterConfig {
+            variant,
+            mclk_hz: match variant {
+                Variant::Sercon410b => 20_000_000,
+                Variant::Sercon816 => 32_000_000,
+            },
+            bit_rate,
+            cycle_us,
+            nc_cycle_us: cycle_us,
+            drives,
+            telegram_type: TELEGRAM_TYPE_CONFIGURED,
+            // The captures' master writes these lists (`sercon capture transcript`).
+            at_list: vec![Idn::from_raw(11), Idn::from_raw(51), Idn::from_raw(0x8013)],
+            mdt_list: vec![Idn::from_raw(36)],
+            buffering: Buffering::Double,
+            timing_rules: TimingRules {
+                min_gap_us: 2,
+                mdt_placement: MdtPlacement::EndOfCycle,
+            },
+            phase0_cycles: 10,
+            phase1_rounds: 2,
+            detect_rounds: 4,
+            mst_loss_cycles: 3,
+            service_timeout: Duration::from_micros(400 * u64::from(cycle_us.max(1))),
+            command_polls: 100,
+            service_buffer_words: DEFAULT_SERVICE_BUFFER_WORDS,
+        }
+    }
+
+    /// The captures' ring: SERCON816, 2 Mbit/s, 2 ms, drives 1-4.
+    pub fn capture_ring() -> MasterConfig {
+        let drives = (1..=4).filter_map(DriveAddress::new).collect();
+        MasterConfig::new(Variant::Sercon816, BitRate::Mbit2, 2000, drives)
+    }
+
+    /// A service-container slot check: the buffer length as [`ContainerSlot`] takes it.
+    pub(crate) fn slot_buffer_ok(&self) -> bool {
+        ContainerSlot::new(self.variant, 0, 0, self.service_buffer_words).is_ok()
+    }
+}

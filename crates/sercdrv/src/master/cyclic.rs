@@ -1,0 +1,201 @@
+//! Cyclic data of phases 3-4: command values into each drive's MDT record, feedback values
+//! out of its AT, by IDN, through the single or double buffer (410B §4.2.1 DBUF, VAL).
+
+use sercon_regs::ram::header::{Buffering, Header};
+use sercon_regs::{SerconBus, SerconBusExt, Variant};
+use sercos_wire::address::DriveAddress;
+use sercos_wire::idn::Idn;
+
+use crate::ram_layout::ContainerPlace;
+
+/// Words of the control/status word and the service info before the cyclic data
+/// (sercos-telegrams.md, "Data Record").
+const RECORD_HEADER_WORDS: usize = 2;
+
+/// Where one IDN sits in a record's cyclic data.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Item {
+    /// The IDN.
+    pub idn: Idn,
+    /// First word after the record header.
+    pub offset: usize,
+    /// Its words.
+    pub words: usize,
+}
+
+/// Lays out `idns` of `words` each one after another (sercos-facts.md: the configuration
+/// lists S-0-0016 / S-0-0024 give the order of the cyclic data).
+pub(crate) fn items(idns: &[Idn], words: &[usize]) -> Vec<Item> {
+    let mut offset = 0;
+    idns.iter()
+        .zip(words)
+        .map(|(&idn, &words)| {
+            let item = Item { idn, offset, words };
+            offset += words;
+            item
+        })
+        .collect()
+}
+
+/// One drive's cyclic data and where it lives.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct DriveCyclic {
+    pub address: DriveAddress,
+    /// Its record in the broadcast MDT (master transmit container).
+    pub command: ContainerPlace,
+    /// Its AT (master receive container) and the AT's receive header.
+    pub feedback: ContainerPlace,
+    pub at_header: u16,
+    pub mdt_items: Vec<Item>,
+    pub at_items: Vec<Item>,
+    /// The record to send: control word, service info (filled by the chip), command data.
+    pub record: Vec<u16>,
+    /// The last AT received whole: status word, service info, feedback data.
+    pub received: Vec<u16>,
+    /// Whether the last AT was received without error.
+    pub last_ok: bool,
+}
+
+/// The cyclic data of every drive.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct CyclicImage {
+    pub variant: Variant,
+    pub buffering: Buffering,
+    /// The broadcast MDT's transmit header.
+    pub mdt_header: u16,
+    pub drives: Vec<DriveCyclic>,
+}
+
+impl CyclicImage {
+    pub fn drive(&self, address: DriveAddress) -> Option<&DriveCyclic> {
+        self.drives.iter().find(|d| d.address == address)
+    }
+
+    pub fn drive_mut(&mut self, address: DriveAddress) -> Option<&mut DriveCyclic> {
+        self.drives.iter_mut().find(|d| d.address == address)
+    }
+
+    /// Writes every drive's record for the next MDT. Double buffer: into the buffer the
+    /// chip does not send, then VAL is turned to it (410B §4.2.1: for transmit headers VAL
+    /// "Set by processor": data in buffer 0 (VAL = 0) or buffer 1 (VAL = 1) are valid; 816
+    /// §2.10.1.2: VAL is read again at the start of the transmit telegram).
+    pub fn write_commands<B: SerconBus + ?Sized>(&self, bus: &mut B) {
+        let header = match bus.read_header(self.variant, self.mdt_header) {
+            Ok(Header::Transmit(h)) => h,
+            _ => return,
+        };
+        let target = match self.buffering {
+            Buffering::Double => u8::from(!header.val),
+            _ => 0,
+        };
+        for d in &self.drives {
+            if let Some(start) = buffer_start(&d.command, target) {
+                bus.write_ram_words(start, &d.record);
+            }
+        }
+        if self.buffering == Buffering::Double {
+            let mut h = header;
+            h.val = target == 1;
+            // Only word 0 carries VAL; the other words are the driver's own.
+            let words = h.to_words(self.variant);
+            bus.write_ram(self.mdt_header, words[0]);
+        }
+    }
+
+    /// Reads every drive's AT. Double buffer: VAL of the receive header names the buffer
+    /// the chip finished last (410B §4.2.1: "data in buffer 0 (VAL = 0) or buffer 1
+    /// (VAL = 1) is valid. Modified by controller at beginning and end of receive
+    /// telegrams"). VAL is read again afterwards and the read repeated if it changed, so a
+    /// value is never torn between two telegrams. Returns how many ATs came without error.
+    pub fn read_feedback<B: SerconBus + ?Sized>(&mut self, bus: &mut B) -> usize {
+        let variant = self.variant;
+        let mut ok = 0;
+        for d in &mut self.drives {
+            let mut words = Vec::new();
+            let mut good = false;
+            for _ in 0..3 {
+                let Ok(Header::Receive(h)) = bus.read_header(variant, d.at_header) else {
+                    break;
+                };
+                // 410B §4.2.1 RERR: "errored or not received".
+                good = !h.rerr;
+                let buffer = match h.buffering() {
+                    Buffering::Double => u8::from(h.val),
+                    _ => 0,
+                };
+                let Some(start) = buffer_start(&d.feedback, buffer) else {
+                    break;
+                };
+                words = read_words(bus, start, d.feedback.len);
+                let again = bus.read_ram(d.at_header);
+                if again & VAL == u16::from(h.val) * VAL {
+                    break;
+                }
+            }
+            d.last_ok = good;
+            if good {
+                ok += 1;
+                d.received = words;
+            }
+        }
+        ok
+    }
+}
+
+/// 410B §4.2.1 header word 0 bit 10, VAL.
+const VAL: u16 = 1 << 10;
+
+fn buffer_start(place: &ContainerPlace, buffer: u8) -> Option<u16> {
+    match (place.buffering, buffer) {
+        (Buffering::Single, 0) | (Buffering::Double, 0) => Some(place.data),
+        (Buffering::Double, 1) => place.data.checked_add(place.len),
+        _ => None,
+    }
+}
+
+fn read_words<B: SerconBus + ?Sized>(bus: &mut B, start: u16, len: u16) -> Vec<u16> {
+    (0..len)
+        .map(|i| bus.read_ram(start.wrapping_add(i)))
+        .collect()
+}
+
+/// The value of `item` in `record` (words low first), if the record holds it.
+pub(crate) fn value_of(record: &[u16], item: &Item) -> Option<u64> {
+    let start = RECORD_HEADER_WORDS + item.offset;
+    let words = record.get(start..start + item.words)?;
+    Some(
+        words
+            .iter()
+            .enumerate()
+            .fold(0u64, |acc, (i, w)| acc | (u64::from(*w) << (16 * i))),
+    )
+}
+
+/// Puts `value` (words low first) into `record` at `item`.
+pub(crate) fn put_value(record: &mut [u16], item: &Item, value: u64) -> bool {
+    let start = RECORD_HEADER_WORDS + item.offset;
+    let Some(words) = record.get_mut(start..start + item.words) else {
+        return false;
+    };
+    for (i, w) in words.iter_mut().enumerate() {
+        *w = (value >> (16 * i)) as u16;
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // sercos-telegrams.md "Data Record": control word, service info, then the data block.
+    #[test]
+    fn values_follow_the_record_header_in_list_order() {
+        let list = items(&[Idn::from_raw(11), Idn::from_raw(51)], &[1, 2]);
+        let mut record = vec![0u16; 5];
+        assert!(put_value(&mut record, &list[1], 0x1234_5678));
+        assert!(put_value(&mut record, &list[0], 0xABCD));
+        assert_eq!(record, vec![0, 0, 0xABCD, 0x5678, 0x1234]);
+        assert_eq!(value_of(&record, &list[1]), Some(0x1234_5678));
+        assert!(!put_value(&mut record[..4], &list[1], 1));
+    }
+}

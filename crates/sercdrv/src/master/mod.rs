@@ -1,0 +1,1159 @@
+//! SERCDRV master: chip initialisation, phase-up 0 → 4, cyclic data, errors and recovery,
+//! event-driven over [`SerconBus`] only (it runs unchanged on a real chip mapped into memory).
+//!
+//! [`Master`] implements [`HostProgram`]: it is woken on INT0 (INT_COMEND once per cycle,
+//! INT_FIBBR) and at its deadlines, never blocks and never reads a clock.
+//!
+//! * Phase 0: MSTs until the ring is closed (no FIBBR, the MST comes back: TCYCDEL, 410B
+//!   §4.1 11H); the ring delay places the receive windows of the ATs.
+//! * Phase 1: one MDT per cycle to each configured address in turn, noting which drives
+//!   answer with their AT in the next cycle (receive header ACHK = 0 stores the address).
+//! * Phase 2: the service channel with one drive after the other: the timing parameters
+//!   (S-0-0003, -0004, -0088, -0096, -0005, -0090) and the data lengths of the cyclic IDNs,
+//!   then the cycle's timing and layout ([`crate::timing::plan_cycle`]) written as S-0-0001,
+//!   -0002, -0006, -0089, -0008, -0007, -0009, -0010, -0015, -0016, -0024, then S-0-0099
+//!   and S-0-0127 run on every drive.
+//! * Phase 3: broadcast MDT, S-0-0128 on every drive at once. Phase 4: cyclic operation.
+//!
+//! Readings chosen where the documents are silent: `docs/spec-notes.md`, "Driver master
+//! (sercdrv)".
+
+mod chip_init;
+mod config;
+mod cyclic;
+mod error;
+mod script;
+mod status;
+
+pub use config::{MasterConfig, TELEGRAM_TYPE_CONFIGURED};
+pub use error::{MasterError, MasterErrorKind};
+pub use status::{DriveStatus, MasterStatus, Progress};
+
+use sercon_regs::host::{HostProgram, Wake};
+use sercon_regs::ram::COMPT1;
+use sercon_regs::ram::container::ContainerControl;
+use sercon_regs::ram::header::{Buffering, Header, HeaderKind, TxEnable};
+use sercon_regs::{Ctrl2, IntFlagsLo, Jtrdel1, Jtrdel2, SerconBus, SerconBusExt, Tcycdel};
+use sercos_wire::address::DriveAddress;
+use sercos_wire::idn::Idn;
+use sercos_wire::time::Instant;
+
+use crate::ram_layout::{self, PhaseGroup, RamLayout, RamLayoutRequest, Role};
+use crate::service_channel::{
+    CommandStatus, Completion, ContainerSlot, Request, ServiceChannelMaster, Wiring,
+};
+use crate::timing::{self, CycleTiming, DriveParameters, TimingRequest};
+
+use chip_init::{init_chip, select_block, set_phase, start_cycles};
+use cyclic::{CyclicImage, DriveCyclic};
+use script::{Item, Lane, Purpose, TimingValue};
+
+/// Most drives the master serves: one service container each (410B §4.2: SCPT0-7).
+pub const MAX_DRIVES: usize = 8;
+
+/// S-0-0099, reset class 1 diagnostic (sercos-facts.md, "Timing parameters" table).
+const RESET_CLASS_1: Idn = Idn::from_raw(99);
+/// S-0-0096, slave arrangement (read by the captures' master; not every drive has it).
+const SLAVE_ARRANGEMENT: Idn = Idn::from_raw(96);
+
+/// Where the phase-up is, with its own progress.
+#[derive(Debug, Clone)]
+enum State {
+    Idle,
+    Phase0 { closed: u32 },
+    Phase1 { next: usize, checked: u32 },
+    Phase2Read,
+    Phase2Config,
+    Phase3,
+    Phase4 { silent: u32 },
+    Halted,
+}
+
+/// Addresses of the phase 0-2 block (410B §4.2.1, §4.2.2) the driver rewrites per cycle.
+#[derive(Debug, Clone, Copy)]
+struct NonCyclicPlaces {
+    at_header: u16,
+    at_container: u16,
+    mdt_header: u16,
+    mdt_container: u16,
+}
+
+/// What the master knows about one drive.
+#[derive(Debug, Clone)]
+struct DriveInfo {
+    status: DriveStatus,
+    nsv: u8,
+    params: DriveParameters,
+    at_words: Vec<Option<usize>>,
+    mdt_words: Vec<Option<usize>>,
+}
+
+/// The SERCOS master driver.
+#[derive(Debug)]
+pub struct Master {
+    cfg: MasterConfig,
+    state: State,
+    phase: u8,
+    drives: Vec<DriveInfo>,
+    layout: Option<RamLayout>,
+    places: Option<NonCyclicPlaces>,
+    sc: Option<ServiceChannelMaster>,
+    lanes: Vec<Lane>,
+    timing: Option<CycleTiming>,
+    cyclic: Option<CyclicImage>,
+    ring_delay_us: u16,
+    /// Drive of this cycle's MDT (phases 1-2) and of the previous one.
+    addressed: Option<DriveAddress>,
+    previous: Option<DriveAddress>,
+    errors: Vec<MasterError>,
+    last_error: Option<MasterError>,
+    cycles: u64,
+    service_requests: u64,
+    restarts: u32,
+}
+
+impl Master {
+    /// A master for `cfg`, or why the configuration cannot run.
+    pub fn new(cfg: MasterConfig) -> Result<Master, MasterError> {
+        let bad = |what| Err(MasterError::ring(0, MasterErrorKind::Config(what)));
+        if cfg.drives.is_empty() {
+            return bad("no drives");
+        }
+        if cfg.drives.len() > MAX_DRIVES {
+            return bad("more than eight drives (one service container each)");
+        }
+        if cfg.telegram_type != TELEGRAM_TYPE_CONFIGURED {
+            return bad("only telegram type 7 (S-0-0016/S-0-0024) is supported");
+        }
+        if cfg.buffering == Buffering::Dma {
+            return bad("DMA buffering is not supported by the master driver");
+        }
+        if !cfg.slot_buffer_ok() {
+            return bad("service buffer length (1-251 words)");
+        }
+        let mut seen = Vec::new();
+        for d in &cfg.drives {
+            if seen.contains(d) {
+                return bad("a drive address appears twice");
+            }
+            seen.push(*d);
+        }
+        let drives = cfg
+            .drives
+            .iter()
+            .enumerate()
+            .map(|(i, &address)| DriveInfo {
+                status: DriveStatus {
+                    address,
+                    answered: false,
+                    ats_received: 0,
+                    ats_missed: 0,
+                },
+                nsv: i as u8,
+                params: default_params(address.get()),
+                at_words: vec![None; cfg.at_list.len()],
+                mdt_words: vec![None; cfg.mdt_list.len()],
+            })
+            .collect();
+        Ok(Master {
+            cfg,
+            state: State::Idle,
+            phase: 0,
+            drives,
+            layout: None,
+            places: None,
+            sc: None,
+            lanes: Vec::new(),
+            timing: None,
+            cyclic: None,
+            ring_delay_us: 0,
+            addressed: None,
+            previous: None,
+            errors: Vec::new(),
+            last_error: None,
+            cycles: 0,
+            service_requests: 0,
+            restarts: 0,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &MasterConfig {
+        &self.cfg
+    }
+
+    /// The communication phase sent in the MST.
+    pub fn phase(&self) -> u8 {
+        self.phase
+    }
+
+    /// A snapshot: phase, progress, drives, counters, last error.
+    pub fn status(&self) -> MasterStatus {
+        MasterStatus {
+            phase: self.phase,
+            progress: self.progress(),
+            drives: self.drives.iter().map(|d| d.status).collect(),
+            cycles: self.cycles,
+            service_requests: self.service_requests,
+            restarts: self.restarts,
+            last_error: self.last_error.clone(),
+        }
+    }
+
+    /// Where the phase-up stands.
+    pub fn progress(&self) -> Progress {
+        match self.state {
+            State::Idle => Progress::Idle,
+            State::Phase0 { .. } => Progress::WaitingForRing,
+            State::Phase1 { .. } => Progress::DetectingDrives,
+            State::Phase2Read => Progress::ReadingParameters,
+            State::Phase2Config => Progress::Configuring,
+            State::Phase3 => Progress::CheckingPhase4,
+            State::Phase4 { .. } => Progress::Cyclic,
+            State::Halted => Progress::Halted,
+        }
+    }
+
+    /// Errors reported since the last call, oldest first.
+    pub fn take_errors(&mut self) -> Vec<MasterError> {
+        std::mem::take(&mut self.errors)
+    }
+
+    /// The cycle's timing, once planned in phase 2.
+    pub fn timing(&self) -> Option<&CycleTiming> {
+        self.timing.as_ref()
+    }
+
+    /// The measured ring delay, µs (TCYCDEL, 410B §4.1 11H).
+    pub fn ring_delay_us(&self) -> u16 {
+        self.ring_delay_us
+    }
+
+    /// Sets the command value `idn` of `drive` (an IDN of the MDT list); it goes out from
+    /// the next cycle on. Values are words low first (1, 2 or 4 words by the attribute).
+    pub fn set_command(
+        &mut self,
+        drive: DriveAddress,
+        idn: Idn,
+        value: u64,
+    ) -> Result<(), CyclicError> {
+        let d = self
+            .cyclic
+            .as_mut()
+            .ok_or(CyclicError::NotCyclic)?
+            .drive_mut(drive)
+            .ok_or(CyclicError::UnknownDrive(drive))?;
+        let item = *d
+            .mdt_items
+            .iter()
+            .find(|i| i.idn == idn)
+            .ok_or(CyclicError::NotConfigured { drive, idn })?;
+        if cyclic::put_value(&mut d.record, &item, value) {
+            Ok(())
+        } else {
+            Err(CyclicError::NotConfigured { drive, idn })
+        }
+    }
+
+    /// Sets the control word of `drive`'s MDT record (bits 15-6; the service-channel bits
+    /// 5-0 are the chip's, ERRATA "service info in a container").
+    pub fn set_control_word(&mut self, drive: DriveAddress, word: u16) -> Result<(), CyclicError> {
+        let d = self
+            .cyclic
+            .as_mut()
+            .ok_or(CyclicError::NotCyclic)?
+            .drive_mut(drive)
+            .ok_or(CyclicError::UnknownDrive(drive))?;
+        if let Some(w) = d.record.first_mut() {
+            *w = word & !0x003F;
+        }
+        Ok(())
+    }
+
+    /// The feedback value `idn` of `drive` (an IDN of the AT list) from the last AT
+    /// received whole, words low first.
+    pub fn feedback(&self, drive: DriveAddress, idn: Idn) -> Result<u64, CyclicError> {
+        let d = self
+            .cyclic
+            .as_ref()
+            .ok_or(CyclicError::NotCyclic)?
+            .drive(drive)
+            .ok_or(CyclicError::UnknownDrive(drive))?;
+        let item = d
+            .at_items
+            .iter()
+            .find(|i| i.idn == idn)
+            .ok_or(CyclicError::NotConfigured { drive, idn })?;
+        cyclic::value_of(&d.received, item).ok_or(CyclicError::NoData(drive))
+    }
+
+    /// The status word of `drive`'s last AT received whole (sercos-telegrams.md, AT).
+    pub fn status_word(&self, drive: DriveAddress) -> Result<u16, CyclicError> {
+        let d = self
+            .cyclic
+            .as_ref()
+            .ok_or(CyclicError::NotCyclic)?
+            .drive(drive)
+            .ok_or(CyclicError::UnknownDrive(drive))?;
+        d.received
+            .first()
+            .copied()
+            .ok_or(CyclicError::NoData(drive))
+    }
+
+    fn report(&mut self, error: MasterError) {
+        self.last_error = Some(error.clone());
+        self.errors.push(error);
+    }
+
+    fn halt(&mut self, error: MasterError) {
+        self.report(error);
+        self.state = State::Halted;
+    }
+
+    fn error(
+        &self,
+        drive: Option<DriveAddress>,
+        idn: Option<Idn>,
+        kind: MasterErrorKind,
+    ) -> MasterError {
+        MasterError {
+            drive,
+            phase: self.phase,
+            idn,
+            kind,
+        }
+    }
+
+    // ----- start -------------------------------------------------------------------------
+
+    fn start<B: SerconBus + ?Sized>(&mut self, bus: &mut B) -> Result<(), MasterError> {
+        init_chip(bus, &self.cfg).map_err(|k| MasterError::ring(0, k))?;
+        let prelim = self.plan(self.drives.iter().map(|d| d.params).collect())?;
+        let layout = build_layout(&self.cfg, &prelim, [Some(PhaseGroup::NonCyclic), None])
+            .map_err(|k| MasterError::ring(0, k))?;
+        for w in &layout.writes {
+            bus.write_ram(w.address, w.word);
+        }
+        self.places = noncyclic_places(&layout);
+        let places = self.places.ok_or(MasterError::ring(
+            0,
+            MasterErrorKind::Config("layout without phase 0-2 block"),
+        ))?;
+        // Receive window of the AT, placed by the ring delay once measured (spec-notes).
+        let window = window_us(&self.cfg);
+        bus.write_reg(Jtrdel1(window));
+        bus.write_reg(Jtrdel2(window));
+        set_at_window(
+            bus,
+            self.cfg.variant,
+            places.at_header,
+            prelim.noncyclic.at.start_us,
+            0,
+        );
+        set_mdt(bus, self.cfg.variant, places, None, TxEnable::Off);
+        self.sc = Some(self.service_channel(&layout)?);
+        if let Some(sc) = self.sc.as_mut() {
+            sc.init(bus);
+        }
+        self.layout = Some(layout);
+        self.phase = 0;
+        set_phase(bus, 0);
+        start_cycles(bus, false);
+        self.state = State::Phase0 { closed: 0 };
+        Ok(())
+    }
+
+    fn plan(&self, drives: Vec<DriveParameters>) -> Result<CycleTiming, MasterError> {
+        timing::plan_cycle(&TimingRequest {
+            bit_rate: self.cfg.bit_rate,
+            cycle_time_us: self.cfg.cycle_us,
+            nc_cycle_time_us: self.cfg.nc_cycle_us,
+            drives,
+            rules: self.cfg.timing_rules,
+        })
+        .map_err(|e| self.error(None, None, MasterErrorKind::Timing(e)))
+    }
+
+    fn service_channel(&self, layout: &RamLayout) -> Result<ServiceChannelMaster, MasterError> {
+        let mut containers = Vec::new();
+        for place in &layout.map.service_containers {
+            let Some(drive) = place.drive.and_then(DriveAddress::new) else {
+                continue;
+            };
+            let slot = ContainerSlot::new(
+                self.cfg.variant,
+                place.nsv,
+                place.address,
+                place.buffer_words,
+            )
+            .map_err(|_| {
+                self.error(
+                    Some(drive),
+                    None,
+                    MasterErrorKind::Config("service container"),
+                )
+            })?;
+            containers.push((slot, Wiring::Drive(drive)));
+        }
+        let mut sc = ServiceChannelMaster::new(containers);
+        sc.set_timeout(Some(self.cfg.service_timeout));
+        Ok(sc)
+    }
+
+    /// Back to phase 0 after `error`: MSTs of phase 0 with the phase 0-2 block, the service
+    /// channel and the drives' state forgotten, the ring brought up again by itself.
+    fn restart<B: SerconBus + ?Sized>(&mut self, bus: &mut B, error: MasterError) {
+        self.report(error);
+        self.restarts = self.restarts.saturating_add(1);
+        self.phase = 0;
+        set_phase(bus, 0);
+        select_block(bus, false);
+        if let Some(places) = self.places {
+            set_mdt(bus, self.cfg.variant, places, None, TxEnable::Off);
+        }
+        if let Some(layout) = self.layout.as_ref() {
+            if let Ok(sc) = self.service_channel(layout) {
+                self.sc = Some(sc);
+            }
+        }
+        if let Some(sc) = self.sc.as_mut() {
+            sc.init(bus);
+        }
+        for d in &mut self.drives {
+            d.status.answered = false;
+        }
+        self.lanes.clear();
+        self.cyclic = None;
+        self.addressed = None;
+        self.previous = None;
+        self.state = State::Phase0 { closed: 0 };
+    }
+
+    // ----- per cycle ---------------------------------------------------------------------
+
+    fn on_cycle_end<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) {
+        self.cycles = self.cycles.saturating_add(1);
+        match self.state.clone() {
+            State::Idle | State::Halted => {}
+            State::Phase0 { closed } => self.phase0(bus, closed),
+            State::Phase1 { next, checked } => self.phase1(bus, next, checked),
+            State::Phase2Read | State::Phase2Config => self.phase2(bus, now),
+            State::Phase3 => self.phase3(bus, now),
+            State::Phase4 { silent } => self.phase4(bus, now, silent),
+        }
+    }
+
+    fn phase0<B: SerconBus + ?Sized>(&mut self, bus: &mut B, closed: u32) {
+        // 410B §4.1 2H.13 FIBBR: no edges on the receive line; 11H TCYCDEL: when the MST came
+        // back (spec-notes: the ring counts as closed when both say so).
+        let fibbr = bus.read_reg::<Ctrl2>().fibbr();
+        let delay = bus.read_reg::<Tcycdel>().0;
+        let closed_now = !fibbr && delay > 0 && u32::from(delay) < self.cfg.cycle_us;
+        let closed = if closed_now {
+            closed.saturating_add(1)
+        } else {
+            0
+        };
+        if closed < self.cfg.phase0_cycles.max(1) {
+            self.state = State::Phase0 { closed };
+            return;
+        }
+        self.ring_delay_us = delay;
+        if let (Some(places), Some(layout)) = (self.places, self.layout.as_ref()) {
+            let t1 = layout
+                .map
+                .blocks
+                .first()
+                .and_then(|b| b.telegrams.first())
+                .map_or(0, |t| u32::from(t.trt));
+            set_at_window(bus, self.cfg.variant, places.at_header, t1, delay);
+        }
+        self.enter_phase(bus, 1);
+        self.state = State::Phase1 {
+            next: 0,
+            checked: 0,
+        };
+        self.address_next(bus, 0);
+    }
+
+    /// Addresses the drive with index `index` in the next cycle's MDT (phases 1-2), with
+    /// its service container, and the AT container to the drive addressed this cycle.
+    fn address_next<B: SerconBus + ?Sized>(&mut self, bus: &mut B, index: usize) {
+        let Some(next) = self.drives.get(index).map(|d| d.status.address) else {
+            return;
+        };
+        self.address(bus, next);
+    }
+
+    fn address<B: SerconBus + ?Sized>(&mut self, bus: &mut B, next: DriveAddress) {
+        self.previous = self.addressed;
+        self.addressed = Some(next);
+        let Some(places) = self.places else {
+            return;
+        };
+        let nsv_of = |d: Option<DriveAddress>| {
+            d.and_then(|a| self.drives.iter().find(|x| x.status.address == a))
+                .map(|x| x.nsv)
+        };
+        // Phases 1-2 carry one record each way; the driver points the containers at the
+        // service container of the drive concerned (spec-notes "Driver timing and RAM
+        // layout": "the driver rebinds NSV with the addressed drive").
+        if let Some(nsv) = nsv_of(Some(next)) {
+            set_nsv(bus, places.mdt_container, nsv);
+        }
+        // The AT of the next cycle answers this cycle's MDT (410B §4.2.1 EN = 3 on the slave).
+        if let Some(nsv) = nsv_of(self.previous) {
+            set_nsv(bus, places.at_container, nsv);
+        }
+        // 410B §4.2.1 EN = 2: sent every cycle, ADR rewritten per cycle.
+        set_mdt(
+            bus,
+            self.cfg.variant,
+            places,
+            Some(next),
+            TxEnable::Continuous,
+        );
+    }
+
+    /// The AT of this cycle: the address stored by ACHK = 0, if received without error
+    /// (410B §4.2.1 ACHK, RERR).
+    fn at_from<B: SerconBus + ?Sized>(&self, bus: &mut B) -> Option<u8> {
+        let places = self.places?;
+        match bus.read_header(self.cfg.variant, places.at_header) {
+            Ok(Header::Receive(h)) if !h.rerr => Some(h.adr),
+            _ => None,
+        }
+    }
+
+    fn phase1<B: SerconBus + ?Sized>(&mut self, bus: &mut B, next: usize, checked: u32) {
+        let n = self.drives.len();
+        let answered = self.at_from(bus);
+        let mut checked = checked;
+        if let Some(expected) = self.previous {
+            if answered == Some(expected.get()) {
+                if let Some(d) = self
+                    .drives
+                    .iter_mut()
+                    .find(|d| d.status.address == expected)
+                {
+                    d.status.answered = true;
+                }
+            }
+            checked = checked.saturating_add(1);
+        }
+        let rounds = checked / n.max(1) as u32;
+        if checked > 0 && checked % n.max(1) as u32 == 0 {
+            let all = self.drives.iter().all(|d| d.status.answered);
+            if all && rounds >= self.cfg.phase1_rounds.max(1) {
+                self.enter_phase2(bus);
+                return;
+            }
+            if rounds >= self.cfg.detect_rounds.max(1) {
+                let missing = self
+                    .drives
+                    .iter()
+                    .find(|d| !d.status.answered)
+                    .map(|d| d.status.address);
+                let error = self.error(missing, None, MasterErrorKind::DriveMissing);
+                self.halt(error);
+                return;
+            }
+        }
+        let index = (next + 1) % n.max(1);
+        self.state = State::Phase1 {
+            next: index,
+            checked,
+        };
+        self.address_next(bus, index);
+    }
+
+    fn enter_phase<B: SerconBus + ?Sized>(&mut self, bus: &mut B, phase: u8) {
+        self.phase = phase;
+        set_phase(bus, phase);
+    }
+
+    fn enter_phase2<B: SerconBus + ?Sized>(&mut self, bus: &mut B) {
+        self.enter_phase(bus, 2);
+        let mut items = Vec::new();
+        for d in &self.drives {
+            let a = d.status.address;
+            // The captures' master reads these, in this order, attribute then value.
+            for (idn, what) in [
+                (3, Some(TimingValue::T1min)),
+                (4, Some(TimingValue::TAtmt)),
+                (88, Some(TimingValue::TMtsy)),
+                (SLAVE_ARRANGEMENT.raw(), None),
+                (5, Some(TimingValue::T5)),
+                (90, Some(TimingValue::TMtsg)),
+            ] {
+                let purpose = what.map_or(Purpose::Optional, Purpose::Timing);
+                items.push(Item::new(
+                    a,
+                    Request::read_value(Idn::from_raw(idn)),
+                    purpose,
+                ));
+            }
+            for (i, idn) in self.cfg.at_list.iter().enumerate() {
+                items.push(Item::attribute(a, *idn, Purpose::AtLength(i)));
+            }
+            for (i, idn) in self.cfg.mdt_list.iter().enumerate() {
+                items.push(Item::attribute(a, *idn, Purpose::MdtLength(i)));
+            }
+        }
+        self.lanes = vec![Lane::new(items)];
+        self.state = State::Phase2Read;
+        let first = self.lanes.first().and_then(Lane::drive);
+        if let Some(first) = first {
+            self.address(bus, first);
+        }
+    }
+
+    /// Polls the service channel, hands completions to their lanes and starts the lanes'
+    /// next requests. Returns `false` when a request failed (the master halted).
+    fn run_lanes<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) -> bool {
+        let Some(sc) = self.sc.as_mut() else {
+            return false;
+        };
+        let done = sc.poll(bus, now);
+        for completion in done {
+            self.service_requests = self.service_requests.saturating_add(1);
+            if !self.complete(completion) {
+                return false;
+            }
+        }
+        let Some(sc) = self.sc.as_mut() else {
+            return false;
+        };
+        let mut started = false;
+        for lane in &mut self.lanes {
+            if lane.running.is_none() {
+                if let Some(item) = lane.items.pop_front() {
+                    let ticket = sc.submit(item.drive, item.request.clone());
+                    lane.running = Some((ticket, item));
+                    started = true;
+                }
+            }
+        }
+        if started {
+            // Schedules the new requests into their containers now, not a cycle later.
+            let done = sc.poll(bus, now);
+            for completion in done {
+                self.service_requests = self.service_requests.saturating_add(1);
+                if !self.complete(completion) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Takes one completion; `false` if it stops the phase-up.
+    fn complete(&mut self, completion: Completion) -> bool {
+        let Some(lane) = self.lanes.iter_mut().find(|l| {
+            l.running
+                .as_ref()
+                .is_some_and(|(t, _)| *t == completion.ticket)
+        }) else {
+            return true;
+        };
+        let Some((_, item)) = lane.running.take() else {
+            return true;
+        };
+        let drive = item.drive;
+        let idn = item.request.idn();
+        let response = match completion.result {
+            Ok(response) => response,
+            Err(_) if item.purpose == Purpose::Optional => return true,
+            Err(e) => {
+                let error = self.error(
+                    Some(drive),
+                    Some(idn),
+                    MasterErrorKind::ServiceChannel(e.kind),
+                );
+                self.halt(error);
+                return false;
+            }
+        };
+        let first = response.words.first().copied();
+        match item.purpose {
+            Purpose::Timing(which) => {
+                let value = first.unwrap_or(0);
+                if let Some(d) = self.drives.iter_mut().find(|d| d.status.address == drive) {
+                    let p = &mut d.params;
+                    match which {
+                        TimingValue::T1min => p.t1min_us = value,
+                        TimingValue::TAtmt => p.t_atmt_us = value,
+                        TimingValue::T5 => p.t5_us = value,
+                        TimingValue::TMtsy => p.t_mtsy_us = value,
+                        TimingValue::TMtsg => p.t_mtsg_us = value,
+                    }
+                }
+            }
+            Purpose::AtLength(i) | Purpose::MdtLength(i) => {
+                let words = response.attribute.and_then(|a| a.fixed_words());
+                let Some(words) = words else {
+                    let raw = response.attribute.map_or(0, |a| u64::from(a.raw()));
+                    let error = self.error(Some(drive), Some(idn), MasterErrorKind::BadValue(raw));
+                    self.halt(error);
+                    return false;
+                };
+                if let Some(d) = self.drives.iter_mut().find(|d| d.status.address == drive) {
+                    let list = if matches!(item.purpose, Purpose::AtLength(_)) {
+                        &mut d.at_words
+                    } else {
+                        &mut d.mdt_words
+                    };
+                    if let Some(slot) = list.get_mut(i) {
+                        *slot = Some(words);
+                    }
+                }
+            }
+            Purpose::CommandPoll(n) => {
+                let status = CommandStatus(first.unwrap_or(0));
+                // sercos-facts.md "Procedure commands"; status bits: spec-notes (emulated
+                // drive): bit 2 executed, bit 3 error.
+                if status.is_error() || (!status.is_executed() && n >= self.cfg.command_polls) {
+                    let error = self.error(
+                        Some(drive),
+                        Some(idn),
+                        MasterErrorKind::ProcedureFailed { status: status.0 },
+                    );
+                    self.halt(error);
+                    return false;
+                }
+                if !status.is_executed() {
+                    let again = Item::new(
+                        drive,
+                        Request::command_status(idn),
+                        Purpose::CommandPoll(n + 1),
+                    );
+                    if let Some(lane) = self.lanes.iter_mut().find(|l| {
+                        l.running.is_none() && l.items.front().is_some_and(|i| i.drive == drive)
+                    }) {
+                        lane.items.push_front(again);
+                    }
+                }
+            }
+            Purpose::Optional | Purpose::Write | Purpose::CommandSet | Purpose::CommandCancel => {}
+        }
+        true
+    }
+
+    fn phase2<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) {
+        if !self.run_lanes(bus, now) {
+            return;
+        }
+        let done = self.lanes.iter().all(Lane::is_done);
+        if done {
+            match self.state {
+                State::Phase2Read => {
+                    if let Err(error) = self.configure() {
+                        self.halt(error);
+                        return;
+                    }
+                    self.state = State::Phase2Config;
+                    // Start the first write now.
+                    if !self.run_lanes(bus, now) {
+                        return;
+                    }
+                }
+                _ => {
+                    if let Err(error) = self.enter_phase3(bus) {
+                        self.halt(error);
+                    }
+                    return;
+                }
+            }
+        }
+        let next = self.lanes.first().and_then(Lane::drive).or(self.addressed);
+        if let Some(next) = next {
+            self.address(bus, next);
+        }
+    }
+
+    /// Plans the cycle from what the drives reported and queues the phase-2 writes and
+    /// procedure commands, in the captures' master's order.
+    fn configure(&mut self) -> Result<(), MasterError> {
+        let mut params = Vec::new();
+        for d in &mut self.drives {
+            let words = |list: &[Option<usize>]| list.iter().map(|w| w.unwrap_or(0)).sum::<usize>();
+            d.params.at_data_bytes = u16::try_from(words(&d.at_words) * 2).unwrap_or(u16::MAX);
+            d.params.mdt_data_bytes = u16::try_from(words(&d.mdt_words) * 2).unwrap_or(u16::MAX);
+            params.push(d.params);
+        }
+        let timing = self.plan(params)?;
+        let mut writes = Vec::new();
+        let mut reset = Vec::new();
+        let mut check = Vec::new();
+        for d in &self.drives {
+            let a = d.status.address;
+            let Some(values) = timing.parameter_writes(a.get()) else {
+                continue;
+            };
+            for (idn, value) in values {
+                writes.push(Item::new(
+                    a,
+                    Request::write_value(idn, vec![value as u16]),
+                    Purpose::Write,
+                ));
+            }
+            writes.push(Item::new(
+                a,
+                Request::write_value(Idn::TELEGRAM_TYPE, vec![self.cfg.telegram_type]),
+                Purpose::Write,
+            ));
+            let at: Vec<u16> = self.cfg.at_list.iter().map(|i| i.raw()).collect();
+            let mdt: Vec<u16> = self.cfg.mdt_list.iter().map(|i| i.raw()).collect();
+            writes.push(Item::new(
+                a,
+                Request::write_list(Idn::AT_CONFIGURATION_LIST, &at),
+                Purpose::Write,
+            ));
+            writes.push(Item::new(
+                a,
+                Request::write_list(Idn::MDT_CONFIGURATION_LIST, &mdt),
+                Purpose::Write,
+            ));
+            reset.extend(Item::command(a, RESET_CLASS_1));
+            check.extend(Item::command(a, Idn::PHASE_3_TRANSITION_CHECK));
+        }
+        writes.extend(reset);
+        writes.extend(check);
+        self.lanes = vec![Lane::new(writes)];
+        self.timing = Some(timing);
+        Ok(())
+    }
+
+    /// Writes the phase 3-4 block, switches to it with phase 3 and queues S-0-0128.
+    fn enter_phase3<B: SerconBus + ?Sized>(&mut self, bus: &mut B) -> Result<(), MasterError> {
+        let timing = self.timing.clone().ok_or(self.error(
+            None,
+            None,
+            MasterErrorKind::Config("no timing"),
+        ))?;
+        let full = build_layout(
+            &self.cfg,
+            &timing,
+            [Some(PhaseGroup::NonCyclic), Some(PhaseGroup::Cyclic)],
+        )
+        .map_err(|k| self.error(None, None, k))?;
+        let same_block0 = self
+            .layout
+            .as_ref()
+            .is_some_and(|l| l.map.blocks.first() == full.map.blocks.first());
+        if !same_block0 {
+            return Err(self.error(None, None, MasterErrorKind::Config("phase 0-2 block moved")));
+        }
+        let block1 = full
+            .writes
+            .iter()
+            .find(|w| w.address == COMPT1)
+            .map(|w| w.word)
+            .ok_or(self.error(None, None, MasterErrorKind::Config("no phase 3-4 block")))?;
+        // Everything of block 1 first, COMPT1 last (410B §4.2: COMPT1, start of block 1).
+        for w in full.writes.iter().filter(|w| w.address >= block1) {
+            bus.write_ram(w.address, w.word);
+        }
+        let Some(block) = full
+            .map
+            .blocks
+            .iter()
+            .find(|b| b.group == PhaseGroup::Cyclic)
+        else {
+            return Err(self.error(None, None, MasterErrorKind::Config("no phase 3-4 block")));
+        };
+        for t in &block.telegrams {
+            if t.kind == HeaderKind::Receive {
+                set_at_window(
+                    bus,
+                    self.cfg.variant,
+                    t.header,
+                    u32::from(t.trt),
+                    self.ring_delay_us,
+                );
+            }
+        }
+        bus.write_ram(COMPT1, block1);
+        self.cyclic = Some(self.cyclic_image(&full)?);
+        if let Some(image) = self.cyclic.as_ref() {
+            image.write_commands(bus);
+            if image.buffering == Buffering::Double {
+                image.write_commands(bus);
+            }
+        }
+        self.layout = Some(full);
+        // 410B §4.1 0CH.2 COMBLK0: block 1 for the phase in PHAS0, from the next cycle on.
+        select_block(bus, true);
+        self.enter_phase(bus, 3);
+        self.lanes = self
+            .drives
+            .iter()
+            .map(|d| {
+                Lane::new(Item::command(
+                    d.status.address,
+                    Idn::PHASE_4_TRANSITION_CHECK,
+                ))
+            })
+            .collect();
+        self.state = State::Phase3;
+        Ok(())
+    }
+
+    fn cyclic_image(&self, layout: &RamLayout) -> Result<CyclicImage, MasterError> {
+        let block = layout
+            .map
+            .blocks
+            .iter()
+            .find(|b| b.group == PhaseGroup::Cyclic)
+            .ok_or(self.error(None, None, MasterErrorKind::Config("no phase 3-4 block")))?;
+        let mdt_header = block
+            .telegrams
+            .iter()
+            .find(|t| t.kind == HeaderKind::Transmit)
+            .map(|t| t.header)
+            .ok_or(self.error(None, None, MasterErrorKind::Config("no MDT header")))?;
+        let mut drives = Vec::new();
+        for d in &self.drives {
+            let a = d.status.address;
+            let ram = layout.map.drive(a.get()).ok_or(self.error(
+                Some(a),
+                None,
+                MasterErrorKind::Config("drive not in layout"),
+            ))?;
+            let at_header = block
+                .telegrams
+                .iter()
+                .find(|t| t.kind == HeaderKind::Receive && t.adr == a.get())
+                .map(|t| t.header)
+                .ok_or(self.error(Some(a), None, MasterErrorKind::Config("no AT header")))?;
+            let words =
+                |list: &[Option<usize>]| list.iter().map(|w| w.unwrap_or(0)).collect::<Vec<_>>();
+            drives.push(DriveCyclic {
+                address: a,
+                command: ram.command,
+                feedback: ram.feedback,
+                at_header,
+                mdt_items: cyclic::items(&self.cfg.mdt_list, &words(&d.mdt_words)),
+                at_items: cyclic::items(&self.cfg.at_list, &words(&d.at_words)),
+                record: vec![0; usize::from(ram.command.len)],
+                received: Vec::new(),
+                last_ok: false,
+            });
+        }
+        Ok(CyclicImage {
+            variant: self.cfg.variant,
+            buffering: self.cfg.buffering,
+            mdt_header,
+            drives,
+        })
+    }
+
+    /// Reads the ATs of this cycle and writes the commands of the next; `false` when the
+    /// MST is taken as lost (the master went back to phase 0).
+    fn exchange<B: SerconBus + ?Sized>(&mut self, bus: &mut B, silent: u32) -> Option<u32> {
+        let Some(image) = self.cyclic.as_mut() else {
+            return Some(silent);
+        };
+        let ok = image.read_feedback(bus);
+        for d in &image.drives {
+            if let Some(info) = self
+                .drives
+                .iter_mut()
+                .find(|i| i.status.address == d.address)
+            {
+                if d.last_ok {
+                    info.status.ats_received = info.status.ats_received.saturating_add(1);
+                } else {
+                    info.status.ats_missed = info.status.ats_missed.saturating_add(1);
+                }
+            }
+        }
+        image.write_commands(bus);
+        let silent = if ok == 0 { silent.saturating_add(1) } else { 0 };
+        if silent >= self.cfg.mst_loss_cycles.max(1) {
+            let error = self.error(None, None, MasterErrorKind::MstLost);
+            self.restart(bus, error);
+            return None;
+        }
+        Some(silent)
+    }
+
+    fn phase3<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) {
+        if self.exchange(bus, 0).is_none() {
+            return;
+        }
+        if !self.run_lanes(bus, now) {
+            return;
+        }
+        if self.lanes.iter().all(Lane::is_done) {
+            self.enter_phase(bus, 4);
+            self.state = State::Phase4 { silent: 0 };
+        }
+    }
+
+    fn phase4<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant, silent: u32) {
+        let Some(silent) = self.exchange(bus, silent) else {
+            return;
+        };
+        self.run_lanes(bus, now);
+        if matches!(self.state, State::Phase4 { .. }) {
+            self.state = State::Phase4 { silent };
+        }
+    }
+}
+
+/// Why a cyclic value cannot be set or read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum CyclicError {
+    /// The master is not in phase 3 or 4.
+    #[error("no cyclic data before phase 3")]
+    NotCyclic,
+    /// The drive is not configured.
+    #[error("drive {0} is not configured")]
+    UnknownDrive(DriveAddress),
+    /// The IDN is not in the drive's configuration list (S-0-0016 / S-0-0024).
+    #[error("{idn} is not in the cyclic data of drive {drive}")]
+    NotConfigured {
+        /// The drive.
+        drive: DriveAddress,
+        /// The IDN.
+        idn: Idn,
+    },
+    /// No AT of the drive has been received whole yet.
+    #[error("no AT of drive {0} received yet")]
+    NoData(DriveAddress),
+}
+
+impl HostProgram for Master {
+    fn wake(&mut self, bus: &mut dyn SerconBus, now: Instant, why: Wake) -> Option<Instant> {
+        match why {
+            Wake::Start => {
+                if let Err(error) = self.start(bus) {
+                    self.halt(error);
+                }
+            }
+            Wake::Interrupt { .. } | Wake::Deadline => {
+                // 410B §4.1 4H: read the flags, write 1 to clear what was seen (ERRATA).
+                let flags = bus.read_reg::<IntFlagsLo>();
+                if !flags.is_empty() {
+                    bus.clear_int_lo(flags);
+                }
+                if flags.contains(IntFlagsLo::INT_FIBBR)
+                    && !matches!(
+                        self.state,
+                        State::Idle | State::Halted | State::Phase0 { .. }
+                    )
+                {
+                    let error = self.error(None, None, MasterErrorKind::RingBroken);
+                    self.restart(bus, error);
+                }
+                if flags.contains(IntFlagsLo::INT_COMEND) {
+                    self.on_cycle_end(bus, now);
+                }
+            }
+        }
+        self.sc
+            .as_ref()
+            .and_then(ServiceChannelMaster::next_deadline)
+    }
+}
+
+/// Drive parameters before phase 2 has read them: zero times, no cyclic data.
+fn default_params(address: u8) -> DriveParameters {
+    DriveParameters {
+        address,
+        t1min_us: 0,
+        t_atmt_us: 0,
+        t5_us: 0,
+        t_mtsy_us: 0,
+        t_mtsg_us: 0,
+        at_data_bytes: 0,
+        mdt_data_bytes: 0,
+    }
+}
+
+fn build_layout(
+    cfg: &MasterConfig,
+    timing: &CycleTiming,
+    blocks: [Option<PhaseGroup>; 2],
+) -> Result<RamLayout, MasterErrorKind> {
+    let mut req = RamLayoutRequest::new(cfg.variant, Role::Master, timing);
+    req.blocks = blocks;
+    req.buffering = cfg.buffering;
+    req.service_buffer_words = cfg.service_buffer_words;
+    ram_layout::build(&req).map_err(MasterErrorKind::Layout)
+}
+
+fn noncyclic_places(layout: &RamLayout) -> Option<NonCyclicPlaces> {
+    let block = layout
+        .map
+        .blocks
+        .iter()
+        .find(|b| b.group == PhaseGroup::NonCyclic)?;
+    let at = block
+        .telegrams
+        .iter()
+        .find(|t| t.kind == HeaderKind::Receive)?;
+    let mdt = block
+        .telegrams
+        .iter()
+        .find(|t| t.kind == HeaderKind::Transmit)?;
+    Some(NonCyclicPlaces {
+        at_header: at.header,
+        at_container: at.containers.first()?.control,
+        mdt_header: mdt.header,
+        mdt_container: mdt.containers.first()?.control,
+    })
+}
+
+/// The receive window either side of an AT's expected start, µs: the planner's gap
+/// between telegrams, at least 4 µs (spec-notes).
+fn window_us(cfg: &MasterConfig) -> u16 {
+    let gap = timing::gap_us(&cfg.timing_rules, cfg.bit_rate);
+    u16::try_from(gap.max(4)).unwrap_or(u16::MAX)
+}
+
+/// Sets TRT of the receive header at `header` to `t1 + ring delay` and TCHK = 1: the AT
+/// leaves the drive t1 after the MST reached it and arrives one ring delay after the
+/// master's MST (410B §4.2.1 TRT, TCHK; §4.1 11H TCYCDEL, 18H/19H JTRDEL1/2).
+fn set_at_window<B: SerconBus + ?Sized>(
+    bus: &mut B,
+    variant: sercon_regs::Variant,
+    header: u16,
+    t1_us: u32,
+    delay_us: u16,
+) {
+    if let Ok(Header::Receive(mut h)) = bus.read_header(variant, header) {
+        h.trt = u16::try_from(t1_us.saturating_add(u32::from(delay_us))).unwrap_or(u16::MAX);
+        h.tchk = true;
+        bus.write_header(variant, header, &Header::Receive(h));
+    }
+}
+
+/// Sets ADR and EN of the phase 0-2 MDT (410B §4.2.1 transmit header word 0).
+fn set_mdt<B: SerconBus + ?Sized>(
+    bus: &mut B,
+    variant: sercon_regs::Variant,
+    places: NonCyclicPlaces,
+    drive: Option<DriveAddress>,
+    en: TxEnable,
+) {
+    if let Ok(Header::Transmit(mut h)) = bus.read_header(variant, places.mdt_header) {
+        if let Some(drive) = drive {
+            h.adr = drive.get();
+        }
+        h.en = en;
+        let words = h.to_words(variant);
+        bus.write_ram(places.mdt_header, words[0]);
+    }
+}
+
+/// Points the data container at `container` to service container `nsv` (410B §4.2.2 NSV).
+fn set_nsv<B: SerconBus + ?Sized>(bus: &mut B, container: u16, nsv: u8) {
+    let mut c = ContainerControl::from_word(bus.read_ram(container));
+    if c.nsv != nsv {
+        c.nsv = nsv;
+        bus.write_ram(container, c.to_word());
+    }
+}
