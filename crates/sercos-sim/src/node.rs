@@ -4,6 +4,7 @@ use std::collections::VecDeque;
 
 use sercon_model::Chip;
 use sercon_model::pins::{Pin, PinSet};
+use sercon_model::serial_port::{LineSegment, LineSignal};
 use sercon_model::serial_settings::{TestMode, TxdOutput, test_mode, txd_outputs};
 use sercon_regs::SerconBus;
 use sercos_wire::time::Instant;
@@ -39,8 +40,12 @@ pub(crate) struct Node {
     pub(crate) resume: Option<Instant>,
     /// The output line is taken up to here (simulation time).
     pub(crate) out_floor: Instant,
+    /// The last segment on the output line (simulation time).
+    pub(crate) last_out: Option<LineSegment>,
     /// Start of the last input segment (local time).
     pub(crate) in_floor: Instant,
+    /// The last segment handed to the receiver (local time).
+    pub(crate) last_in: Option<LineSegment>,
     /// The chip repeats its input (1H.3 REPON, transmitter on, no test mode).
     pub(crate) repeating: bool,
     /// The pending wake event.
@@ -68,7 +73,9 @@ impl Node {
             expect: VecDeque::new(),
             resume: None,
             out_floor: Instant::ZERO,
+            last_out: None,
             in_floor: Instant::ZERO,
+            last_in: None,
             repeating: false,
             wake: None,
             vcd: None,
@@ -128,4 +135,25 @@ pub(crate) fn repeats(chip: &mut Chip) -> bool {
             .iter()
             .any(|o| matches!(o, TxdOutput::TransmitData))
         && matches!(test_mode(cfg.variant, &cfg.straps, r2).0, TestMode::Normal)
+}
+
+impl Node {
+    /// Puts `seg` (simulation time) on the output line. Like the transmitter (410B §1:
+    /// regenerated signal), a telegram continues from the level the line is at (NRZI decodes
+    /// an inverted telegram the same); an own steady signal starts from that level.
+    pub(crate) fn put_out(&mut self, mut seg: LineSegment, own: bool) -> LineSegment {
+        seg.start = seg.start.max(self.out_floor);
+        if let Some(last) = &self.last_out {
+            let level = last.level_at(seg.start);
+            match seg.signal {
+                LineSignal::Bits(_) if seg.level_before != level => seg = seg.inverted(),
+                LineSignal::Bits(_) => {}
+                _ if own => seg.level_before = level,
+                _ => {}
+            }
+        }
+        self.out_floor = seg.end().unwrap_or(seg.start);
+        self.last_out = Some(seg.clone());
+        seg
+    }
 }

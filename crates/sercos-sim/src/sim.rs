@@ -265,9 +265,14 @@ impl Simulation {
         Ok(())
     }
 
-    /// Ends the run and hands over the traces.
-    pub fn finish(self) -> Result<TraceOutput, SimError> {
-        self.recorder.finish(self.now)
+    /// Ends the traces and hands them over (the simulation can still be inspected; it
+    /// records nothing more).
+    pub fn finish(&mut self) -> Result<TraceOutput, SimError> {
+        let rec = std::mem::replace(
+            &mut self.recorder,
+            Recorder::new(crate::config::TraceConfig::default())?,
+        );
+        rec.finish(self.now)
     }
 
     fn touch(&mut self, j: usize) {
@@ -362,8 +367,8 @@ impl Simulation {
             node.resume = seg.end();
         }
         let mut g = seg;
-        g.start = node.clock.to_global(g.start).max(node.out_floor);
-        node.out_floor = g.end().unwrap_or(g.start);
+        g.start = node.clock.to_global(g.start);
+        let g = node.put_out(g, origin == j);
         self.propagate(j, g, origin, true);
     }
 
@@ -421,9 +426,9 @@ impl Simulation {
             };
             let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
             let l_out = node.clock.to_local(seg.start).saturating_add(lat);
-            seg.start = node.clock.to_global(l_out).max(node.out_floor);
+            seg.start = node.clock.to_global(l_out);
             seg.distorted = false;
-            node.out_floor = seg.end().unwrap_or(seg.start);
+            seg = node.put_out(seg, false);
             cur = next;
         }
     }
@@ -487,6 +492,15 @@ impl Simulation {
             }
         }
         node.in_floor = local.start;
+        // The fast path leaves out segments this receiver ignores, so the level it saw
+        // last may differ from the sender's: a telegram is taken from the level the
+        // receiver is at (NRZI decodes an inverted telegram the same).
+        if let (LineSignal::Bits(_), Some(last)) = (&local.signal, &node.last_in)
+            && local.level_before != last.level_at(local.start)
+        {
+            local = local.inverted();
+        }
+        node.last_in = Some(local.clone());
         if repeating {
             let lat = local.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
             node.expect
@@ -619,6 +633,8 @@ impl Simulation {
                 n.expect.clear();
                 n.resume = None;
                 n.in_floor = local;
+                n.last_in = None;
+                n.last_out = None;
                 n.host_deadline = None;
                 n.ints = (
                     n.chip.pin_level(sercon_model::pins::Pin::Int0),

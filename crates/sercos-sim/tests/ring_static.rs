@@ -1,0 +1,172 @@
+//! Static phase-4 rings of a master and 1, 8 and 254 slaves (410B §1 Fig. 3, §4.2): the
+//! expected telegrams at the expected times, the master's ring delay (11H TCYCDEL), the data
+//! exchanged, and the fast path against the reference path.
+
+mod ring_support;
+
+use ring_support::*;
+use sercon_model::serial_port::REPEATER_LATENCY_BITS;
+use sercon_regs::{Register, SerconBus};
+use sercos_sim::Delivery;
+use sercos_sim::static_ring::{StaticRing, at_pattern, mdt_pattern};
+use sercos_wire::line::frame_bit_len;
+use sercos_wire::time::{BitRate, Duration};
+
+/// One MCLK period of the slaves' 32 MHz clock: TRT counts from the first MCLK edge at or
+/// after the end of the MST (spec-notes "Telegram processor and MST").
+const MCLK_PS: u64 = 31_250;
+
+/// Runs `ring` for `cycles` cycles and checks every telegram's time on the first segment
+/// (master → slave 1) and the last one (slave n → master), the data, the headers and
+/// TCYCDEL.
+fn check_ring(ring: StaticRing, cycles: u64) {
+    let n = ring.slaves;
+    let bt = ring.bit_rate.bit_time();
+    let (cfg, hosts, plan) = build(&ring);
+    let cycle = Duration::from_micros(u64::from(ring.cycle_us));
+    let (mut sim, out) = run(cfg, hosts, us(0) + cycle.saturating_mul(cycles));
+    let lines = parse_log(&out.log);
+    let last = n as u16;
+    let ring_delay = sim.ring_delay(0, 0, bt).expect("a ring");
+    let fibre = Duration::from_nanos(5).saturating_mul(u64::from(ring.fibre_m));
+    // 410B §4.1 0CH.10 CYCSTART: one MST per cycle, TSCYC apart.
+    let msts: Vec<u64> = lines
+        .iter()
+        .filter(|l| l.seg == 0 && l.kind == "MST")
+        .map(|l| l.ps)
+        .collect();
+    assert!(msts.len() as u64 >= cycles - 1, "{} MSTs", msts.len());
+    for w in msts.windows(2) {
+        assert_eq!(w[1] - w[0], cycle.as_picos(), "MST spacing");
+    }
+    let mst_bits = frame_bit_len(&[255, 4]);
+    for &s in msts.iter().take(msts.len() - 1) {
+        let mst_end = s + bt.saturating_mul(mst_bits).as_picos();
+        // 410B §4.2.1 TRT: the MDT starts TRT µs after the end of the MST.
+        let mdt = lines
+            .iter()
+            .find(|l| l.seg == 0 && l.kind == "MDT" && l.ps > s)
+            .expect("an MDT each cycle");
+        let want = mst_end + u64::from(plan.mdt_trt_us) * 1_000_000;
+        assert!(
+            mdt.ps.abs_diff(want) <= bt.as_picos(),
+            "MDT at {} want {want}",
+            mdt.ps
+        );
+        assert!(mdt.ok);
+        // Each slave's AT: TRT after the MST's end at that slave, then down the ring.
+        for i in 1..=n {
+            let at = lines
+                .iter()
+                .find(|l| l.seg == last && l.kind == "AT" && l.adr == Some(i as u8) && l.ps > s)
+                .unwrap_or_else(|| panic!("AT {i} after {s}"));
+            // The sender does not repeat its own AT: one repeater latency less.
+            let want = mst_end + ring_delay.as_picos()
+                - bt.saturating_mul(REPEATER_LATENCY_BITS).as_picos()
+                + u64::from(plan.at_trt_us[i - 1]) * 1_000_000
+                - fibre.as_picos();
+            assert!(
+                at.ps >= want && at.ps - want <= bt.as_picos().max(MCLK_PS),
+                "AT {i} at {} want {want}",
+                at.ps
+            );
+            assert!(at.ok);
+        }
+    }
+    // Nothing else on the last segment: MST, MDT and n ATs per cycle.
+    let per_cycle = lines.iter().filter(|l| l.seg == last).count() as f64 / msts.len() as f64;
+    assert!(
+        per_cycle <= (n + 2) as f64,
+        "{per_cycle} telegrams per cycle"
+    );
+    // 410B §4.1 11H TCYCDEL: the master's measured ring delay, in µs of TCNT.
+    let m = sim.chip_mut(0).expect("master");
+    let tcycdel = m.read_register(Register::Tcycdel.address());
+    let want_us = ring_delay.as_picos() as f64 / 1e6;
+    assert!(
+        (f64::from(tcycdel) - want_us).abs() <= 1.0,
+        "TCYCDEL {tcycdel} µs, ring delay {want_us} µs"
+    );
+    // 410B §4.2.1: every AT arrived valid at the master, no errors; data as sent.
+    for i in 1..=n {
+        let h = rx_header(m, plan.master_at_header[i - 1]);
+        assert!(h.val && !h.rerr && h.nerr == 0, "master AT {i}: {h:?}");
+        if let Some(d) = plan.master_at_data[i - 1] {
+            let want: Vec<u16> = (0..ring.at_words).map(|k| at_pattern(i, k)).collect();
+            assert_eq!(words(m, d, ring.at_words), want, "AT {i} data");
+        }
+    }
+    for i in 1..=n {
+        let s = sim.chip_mut(i).expect("slave");
+        let h = rx_header(s, plan.slave_mdt_header);
+        assert!(h.val && !h.rerr && h.nerr == 0, "slave {i} MDT: {h:?}");
+        let first = (i as u16 - 1) * ring.mdt_words;
+        let want: Vec<u16> = (0..ring.mdt_words)
+            .map(|k| {
+                if first + k < plan.mdt_container_len {
+                    mdt_pattern(i, k)
+                } else {
+                    0 // 410B §4.2.2: beyond the container the telegram carries 0
+                }
+            })
+            .collect();
+        assert_eq!(
+            words(s, plan.slave_mdt_data, ring.mdt_words),
+            want,
+            "slave {i} data"
+        );
+    }
+}
+
+#[test]
+fn one_slave_phase4_telegrams_at_trt() {
+    check_ring(StaticRing::new(1, 250), 4);
+}
+
+#[test]
+fn eight_slaves_phase4_telegrams_at_trt_and_ring_delay() {
+    let mut ring = StaticRing::new(8, 250);
+    // Long fibres: a ring delay of about 10 µs that TCYCDEL must show.
+    ring.fibre_m = 200;
+    check_ring(ring, 4);
+}
+
+#[test]
+fn eight_slaves_at_2_mbit() {
+    let mut ring = StaticRing::new(8, 1000);
+    ring.bit_rate = BitRate::Mbit2;
+    ring.mdt_words = 2;
+    ring.at_words = 2;
+    check_ring(ring, 3);
+}
+
+#[test]
+fn two_hundred_fifty_four_slaves_phase4() {
+    // The master's RAM (816: 2048 words) holds no AT data for 254 slaves: the AT
+    // containers have LEN 0 and the MDT container covers what fits.
+    let mut ring = StaticRing::new(254, 4000);
+    ring.mdt_words = 1;
+    ring.at_words = 1;
+    check_ring(ring, 3);
+}
+
+#[test]
+fn fast_path_gives_the_same_trace_as_the_exact_path() {
+    // The fast path (no event per repeater, slaves not given other slaves' ATs) against
+    // the reference (every repeater's output taken from its chip), on a small ring.
+    let mut logs = Vec::new();
+    for delivery in [Delivery::Exact, Delivery::Fast] {
+        let mut ring = StaticRing::new(3, 250);
+        ring.delivery = delivery;
+        ring.fibre_m = 30;
+        let (cfg, hosts, _) = build(&ring);
+        let (sim, out) = run(cfg, hosts, us(1000));
+        assert_eq!(sim.stats().out_of_order, 0);
+        logs.push(out.log);
+    }
+    assert!(parse_log(&logs[0]).len() > 40);
+    assert_eq!(
+        String::from_utf8_lossy(&logs[0]),
+        String::from_utf8_lossy(&logs[1])
+    );
+}

@@ -1,0 +1,87 @@
+//! Shared helpers of the ring and fault tests: building static rings, reading the telegram
+//! log back, reading headers.
+#![allow(dead_code)]
+
+use sercon_model::Chip;
+use sercon_regs::ram::header::RxHeader;
+use sercon_regs::{SerconBus, Variant};
+use sercos_sim::recorder::TraceOutput;
+use sercos_sim::static_ring::{RingPlan, StaticRing};
+use sercos_sim::trace::LogFormat;
+use sercos_sim::{SimConfig, Simulation};
+use sercos_wire::time::{Duration, Instant};
+
+/// One line of the text log.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Line {
+    pub ps: u64,
+    pub seg: u16,
+    pub master: bool,
+    pub kind: String,
+    pub adr: Option<u8>,
+    pub ok: bool,
+}
+
+/// Parses the text telegram log ("0.000006000000 seg 0 master MST adr 255 …").
+pub fn parse_log(log: &[u8]) -> Vec<Line> {
+    let text = String::from_utf8_lossy(log);
+    text.lines()
+        .filter_map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            let (secs, frac) = f.first()?.split_once('.')?;
+            let ps = secs.parse::<u64>().ok()? * 1_000_000_000_000 + frac.parse::<u64>().ok()?;
+            let seg = f.get(2)?.parse().ok()?;
+            let master = *f.get(3)? == "master";
+            let kind = f.get(4)?.to_string();
+            let adr = f
+                .iter()
+                .position(|w| *w == "adr")
+                .and_then(|i| f.get(i + 1))
+                .and_then(|a| a.parse().ok());
+            let ok = l.ends_with("fcs ok");
+            Some(Line {
+                ps,
+                seg,
+                master,
+                kind,
+                adr,
+                ok,
+            })
+        })
+        .collect()
+}
+
+/// `n` µs after time 0.
+pub fn us(n: u64) -> Instant {
+    Instant::ZERO + Duration::from_micros(n)
+}
+
+/// Builds a static ring with a text log on every segment.
+pub fn build(ring: &StaticRing) -> (SimConfig, Vec<Box<dyn sercos_sim::HostProgram>>, RingPlan) {
+    let (mut cfg, hosts, plan) = ring.build().expect("the ring fits");
+    cfg.traces.log = Some(LogFormat::Text);
+    (cfg, hosts, plan)
+}
+
+/// Runs to `until` and returns the simulation and its traces.
+pub fn run(
+    cfg: SimConfig,
+    hosts: Vec<Box<dyn sercos_sim::HostProgram>>,
+    until: Instant,
+) -> (Simulation, TraceOutput) {
+    let mut sim = Simulation::new(cfg, hosts).expect("valid configuration");
+    sim.run_until(until).expect("runs");
+    let out = sim.finish().expect("traces");
+    (sim, out)
+}
+
+/// The receive header at `at` of `chip`.
+pub fn rx_header(chip: &mut Chip, at: u16) -> RxHeader {
+    let w: Vec<u16> = (0..5).map(|i| chip.read_ram(at + i)).collect();
+    RxHeader::decode(Variant::Sercon816, &w).expect("a receive header")
+}
+
+/// `n` RAM words from `at`.
+pub fn words(chip: &mut Chip, at: u16, n: u16) -> Vec<u16> {
+    (0..n).map(|i| chip.read_ram(at + i)).collect()
+}
