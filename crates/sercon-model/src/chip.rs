@@ -121,7 +121,9 @@ impl Chip {
                         }
                     }
                     (_, Some(k)) => {
+                        let fifo = self.tp.fifo.state();
                         crate::telegram_processor::step(self, k);
+                        self.dma_changed(fifo, k);
                         self.settle_tick(k);
                     }
                     _ => break,
@@ -195,12 +197,37 @@ impl Chip {
     pub fn pin_level(&self, pin: Pin) -> bool {
         match DRIVEN.iter().position(|p| *p == pin) {
             Some(i) => self.engine.levels.get(i).copied().unwrap_or(false),
-            // 410B §2 DMAREQR/DMAREQT, active high (static mode, 1H.14 DMAMODE = 0).
-            None if pin == Pin::DmaReqR => self.tp.fifo.dmareqr(),
-            None if pin == Pin::DmaReqT => self.tp.fifo.dmareqt(),
+            // 410B §2 DMAREQR/DMAREQT, active high; static, or pulses with 1H.14 DMAMODE.
+            None if pin == Pin::DmaReqR => {
+                self.dma_request(self.tp.fifo.dmareqr(), self.tp.fifo.pulse_r)
+            }
+            None if pin == Pin::DmaReqT => {
+                self.dma_request(self.tp.fifo.dmareqt(), self.tp.fifo.pulse_t)
+            }
             // 410B §2: IDLE, REACTN, L_ERRN (active low), driven by the serial port.
             None => self.serial_pin_level(pin).unwrap_or(true),
         }
+    }
+
+    /// The level of a DMA request pin whose request is `active`: static (1H.14 DMAMODE = 0)
+    /// or one MCLK period high from the pulse at tick `pulse` (DMAMODE = 1).
+    // 410B §4.1 1H.14 DMAMODE: "DMAREQR/DMAREQT are static signals" / "are pulses".
+    fn dma_request(&self, active: bool, pulse: Option<u64>) -> bool {
+        if !self.dma_pulsed() {
+            return active;
+        }
+        let now = self.clock.tick_at_or_before(self.now);
+        active && pulse == Some(now)
+    }
+
+    /// 410B §4.1 1H.14 DMAMODE = 1.
+    pub(crate) fn dma_pulsed(&self) -> bool {
+        self.engine.regs.stored(sercon_regs::Register::Ctrl1) & (1 << 14) != 0
+    }
+
+    /// After the FIFOs changed from `before` at MCLK tick `tick`: the pulses (DMAMODE = 1).
+    pub(crate) fn dma_changed(&mut self, before: crate::telegram_processor::FifoState, tick: u64) {
+        self.tp.fifo.pulse_after(before, tick);
     }
 
     /// Records a change of the driven pins in `changed` at `at` for the traced ones.

@@ -11,7 +11,12 @@ pub(crate) fn read(chip: &mut Chip, address: u8) -> u16 {
     let address = address & sercon_regs::register::REGISTER_ADDRESS_MASK;
     let status = match Register::from_address(address) {
         // 410B §4.1 27H RFIFO: a read takes the oldest word of the receive FIFO.
-        Some(Register::Fifo) => chip.tp.fifo.read(),
+        Some(Register::Fifo) => {
+            let before = chip.tp.fifo.state();
+            let w = chip.tp.fifo.read();
+            chip.dma_accessed(before);
+            w
+        }
         Some(register) => status_bits(chip, register),
         None => 0,
     };
@@ -122,7 +127,9 @@ pub(crate) fn write(chip: &mut Chip, address: u8, value: u16) {
         Register::ProgerrFl => chip.tp.progerr &= !req.clear,
         // 410B §4.1 27H TFIFO: a write appends to the transmit FIFO.
         Register::Fifo => {
+            let before = chip.tp.fifo.state();
             chip.tp.fifo.write(value);
+            chip.dma_accessed(before);
         }
         Register::Ctrl1 if req.actions & (1 << 1) != 0 => {
             // 410B §4.1 1H.1 SWRST: "Reset by software".

@@ -448,3 +448,36 @@ fn rxdnrz_selects_nrz_reception() {
     nrzi.line_input(seg);
     assert!(frames(&mut nrzi).iter().all(|f| f.bytes != MDT));
 }
+
+#[test]
+fn txd_is_traced_as_the_envelope_of_own_telegrams() {
+    // 410B §2 TxD1 carries the transmitted signal; traced edge by edge it would be one event
+    // per bit, so TxD is traced as its activity (spec-notes "Serial port"): high from the
+    // first bit of an own telegram to the end of its closing flag, the inverse of IDLE.
+    let mut master = chip816(false);
+    master.set_traced_pins(PinSet::of(&[Pin::TxD]));
+    let at = us(4);
+    let end = master.transmit_telegram(at, &MDT).expect("sent");
+    master.advance_to(at + Duration::from_nanos(100));
+    assert!(master.pin_level(Pin::TxD));
+    assert_eq!(master.next_deadline(), Some(end));
+    master.advance_to(end + Duration::from_micros(1));
+    assert!(!master.pin_level(Pin::TxD));
+    let mut ev = Vec::new();
+    master.drain_pin_events(&mut ev);
+    assert_eq!(
+        ev,
+        vec![
+            PinEvent {
+                at,
+                pin: Pin::TxD,
+                level: true
+            },
+            PinEvent {
+                at: end,
+                pin: Pin::TxD,
+                level: false
+            },
+        ]
+    );
+}

@@ -336,3 +336,47 @@ fn corrupted_mdt_on_the_410b_sets_rerr_and_int_rerr() {
         "the slave saw an errored frame"
     );
 }
+
+#[test]
+fn pulsed_dma_requests_one_pulse_per_word() {
+    // 410B §4.1 1H.14 DMAMODE = 1: "DMAREQR/DMAREQT are pulses" (spec-notes "Pulsed DMA
+    // requests": one MCLK period per word the DMA controller may move; 3H.12/13 stay static).
+    for variant in Variant::ALL {
+        let (mut ring, _) = phase4_timed(variant, Buf::Dma, 60, 150);
+        let c1 = ring.slave.read(Register::Ctrl1);
+        ring.slave.write(Register::Ctrl1, c1 | (1 << 14));
+        let step = sercos_wire::time::Duration::from_nanos(10);
+        // Find the slave's first DMAREQT pulse (its AT header becomes current).
+        let mut t = us(1);
+        while !ring.slave.pin_level(Pin::DmaReqT) && t < us(400) {
+            t = t + step;
+            ring.run_to(t);
+        }
+        assert!(ring.slave.pin_level(Pin::DmaReqT), "{variant:?}: a pulse");
+        // One MCLK period later the pin is low again although the FIFO still wants words;
+        // the status bit 3H.12 stays active.
+        let period = sercos_wire::time::Duration::from_picos(
+            1_000_000_000_000 / ring.slave.config().mclk_hz,
+        );
+        ring.run_to(t + period);
+        assert!(
+            !ring.slave.pin_level(Pin::DmaReqT),
+            "{variant:?}: the pulse ended"
+        );
+        assert_ne!(ring.slave.read(Register::Ctrl3) & (1 << 12), 0);
+        // Each word written brings the next pulse on the following MCLK edge, the last none.
+        let mut pulses = 1;
+        for w in 0..8u16 {
+            ring.slave.dma_write_transmit(0x4400 + w);
+            let now = ring.now() + period;
+            ring.run_to(now);
+            if ring.slave.pin_level(Pin::DmaReqT) {
+                pulses += 1;
+                ring.run_to(now + period);
+                assert!(!ring.slave.pin_level(Pin::DmaReqT));
+            }
+        }
+        assert_eq!(pulses, 8, "{variant:?}: one pulse per word");
+        assert_eq!(ring.slave.read(Register::Ctrl3) & (1 << 12), 0);
+    }
+}

@@ -119,6 +119,9 @@ impl Chip {
         );
         if after.0 != before.0 {
             self.pin_event(Pin::Idle, after.0, at);
+            // TxD is traced as the envelope of the node's own transmission (spec-notes
+            // "Serial port": TxD activity), not edge by edge: high while own data go out.
+            self.pin_event(Pin::TxD, !after.0, at);
         }
         if after.1 != before.1 {
             self.pin_event(Pin::Reactn, after.1, at);
@@ -146,6 +149,8 @@ impl Chip {
             Pin::Idle => Some(self.serial.idle()),
             Pin::Reactn => Some(self.serial.reactn()),
             Pin::LErrn => Some(self.serial.lerrn()),
+            // The envelope of own transmissions (see `serial_step`).
+            Pin::TxD => Some(!self.serial.idle()),
             _ => None,
         }
     }
@@ -183,6 +188,7 @@ impl Chip {
             let after = (probe.idle(), probe.reactn(), probe.lerrn());
             let pins = [
                 (Pin::Idle, before.0 != after.0),
+                (Pin::TxD, before.0 != after.0),
                 (Pin::Reactn, before.1 != after.1),
                 (Pin::LErrn, before.2 != after.2),
             ];

@@ -12,7 +12,14 @@ pub(crate) struct DmaFifos {
     pub(crate) tx: VecDeque<u16>,
     /// Words the current DMA transmit telegram needs (0 when none is pending).
     pub(crate) tx_want: usize,
+    /// DMAMODE = 1: the MCLK tick of the last DMAREQR pulse.
+    pub(crate) pulse_r: Option<u64>,
+    /// DMAMODE = 1: the MCLK tick of the last DMAREQT pulse.
+    pub(crate) pulse_t: Option<u64>,
 }
+
+/// The FIFO state the requests depend on: (RFIFO words, TFIFO words, words wanted).
+pub(crate) type FifoState = (usize, usize, usize);
 
 impl DmaFifos {
     /// 410B §2 DMAREQR: "becomes active if data from the receive FIFO can be read. At the
@@ -26,6 +33,26 @@ impl DmaFifos {
     /// DMAREQT becomes inactive again at the beginning of the last write access".
     pub(crate) fn dmareqt(&self) -> bool {
         self.tx.len() < self.tx_want
+    }
+
+    /// The state the requests depend on, to see what an event changed.
+    pub(crate) fn state(&self) -> FifoState {
+        (self.rx.len(), self.tx.len(), self.tx_want)
+    }
+
+    /// DMAMODE = 1 (410B §4.1 1H.14: "DMAREQR/DMAREQT are pulses"): after a change of the
+    /// FIFOs from `before`, a request that is active gets a pulse at MCLK tick `tick`: one
+    /// pulse per word the DMA controller may move (spec-notes "Pulsed DMA requests").
+    pub(crate) fn pulse_after(&mut self, before: FifoState, tick: u64) {
+        if self.state() == before {
+            return;
+        }
+        if self.dmareqr() {
+            self.pulse_r = Some(tick);
+        }
+        if self.dmareqt() {
+            self.pulse_t = Some(tick);
+        }
     }
 
     /// A read of RFIFO (27H, or DMAACKRN = 0): the oldest word, 0 when empty.

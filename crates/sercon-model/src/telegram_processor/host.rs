@@ -8,7 +8,9 @@ impl Chip {
     /// and the chip select signals"); 0 when the FIFO is empty.
     #[doc(alias = "DMAACKRN")]
     pub fn dma_read_receive(&mut self) -> u16 {
+        let before = self.tp.fifo.state();
         let w = self.tp.fifo.read();
+        self.dma_accessed(before);
         self.settle();
         w
     }
@@ -18,7 +20,17 @@ impl Chip {
     #[doc(alias = "DMAACKTN")]
     pub fn dma_write_transmit(&mut self, value: u16) {
         if !self.in_reset {
+            let before = self.tp.fifo.state();
             self.tp.fifo.write(value);
+            self.dma_accessed(before);
         }
+    }
+
+    /// After a FIFO access at [`Chip::now`]: with DMAMODE = 1 a request still active pulses
+    /// again at the MCLK edge after the access (one pulse per word; spec-notes "Pulsed DMA
+    /// requests").
+    pub(crate) fn dma_accessed(&mut self, before: super::FifoState) {
+        let tick = self.clock.tick_at_or_before(self.now).saturating_add(1);
+        self.dma_changed(before, tick);
     }
 }

@@ -29,6 +29,7 @@ use sercos_wire::time::Instant;
 use crate::chip::Chip;
 use crate::interrupts::INT_COMEND;
 use fifo::DmaFifos;
+pub(crate) use fifo::FifoState;
 use status::{INT_PROGERR, INT_RWAIT, ProgErr};
 
 /// A frame the receiver saw: the serial port's [`RxFrame`], handed to the processor as
