@@ -349,7 +349,7 @@ fn pulsed_dma_requests_one_pulse_per_word() {
         // Find the slave's first DMAREQT pulse (its AT header becomes current).
         let mut t = us(1);
         while !ring.slave.pin_level(Pin::DmaReqT) && t < us(400) {
-            t = t + step;
+            t += step;
             ring.run_to(t);
         }
         assert!(ring.slave.pin_level(Pin::DmaReqT), "{variant:?}: a pulse");
