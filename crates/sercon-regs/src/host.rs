@@ -16,13 +16,16 @@ use crate::bus::SerconBus;
 /// Why a host program is woken.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Wake {
-    /// The node has just been powered on (or released from reset): first call.
+    /// The simulation (or the board) starts: first call.
     Start,
-    /// An interrupt output of the chip became active (410B §2 INT0 / INT1).
+    /// The node was powered on again after a power-off; the chip is fresh out of reset (the
+    /// host processor restarted too: a program starts over).
+    PowerOn,
+    /// An interrupt output of the chip changed level (410B §2 INT0 / INT1); the levels now.
     Interrupt {
-        /// INT0 is active.
+        /// Level of pin INT0.
         int0: bool,
-        /// INT1 is active.
+        /// Level of pin INT1.
         int1: bool,
     },
     /// The deadline the program asked for has arrived.

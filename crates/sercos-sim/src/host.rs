@@ -1,37 +1,14 @@
-//! The program on a node's host processor: woken by the controller's interrupt pins and by
-//! its own deadline, it reaches its chip only through [`SerconBus`] ([`NodeBus`]), at the
-//! node's current time, each access costing a configurable time.
+//! The program on a node's host processor ([`HostProgram`], defined beside [`SerconBus`] in
+//! `sercon-regs` so that the driver implements it without knowing the simulator): woken by the
+//! controller's interrupt pins and by its own deadline, it reaches its chip only through
+//! [`SerconBus`] ([`NodeBus`]), at the node's current time, each access costing a configurable
+//! time. Times are the node's own (its clock may run fast or slow, [`crate::clock::NodeClock`]).
 
 use sercon_model::Chip;
 use sercon_regs::SerconBus;
 use sercos_wire::time::{Duration, Instant};
 
-/// Why a host program runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Wake {
-    /// The simulation starts (time 0).
-    Start,
-    /// The node was powered on again after a power-off fault; the chip is fresh out of reset.
-    PowerOn,
-    /// An interrupt output changed level (410B §2 INT0, INT1); the levels now.
-    Interrupt {
-        /// Level of pin INT0.
-        int0: bool,
-        /// Level of pin INT1.
-        int1: bool,
-    },
-    /// The deadline the program asked for has come.
-    Deadline,
-}
-
-/// A program on a node's host processor (a driver, a test program).
-///
-/// Times are the node's own (its clock may run fast or slow, [`crate::clock::NodeClock`]).
-pub trait HostProgram {
-    /// Runs once at `now` for `why`; returns when to be woken next (`None`: only by an
-    /// interrupt or power-on).
-    fn wake(&mut self, bus: &mut NodeBus<'_>, now: Instant, why: Wake) -> Option<Instant>;
-}
+pub use sercon_regs::host::{HostProgram, Wake};
 
 /// The host's access to its chip: [`SerconBus`] at the chip's current time; every access
 /// then advances the chip by the access cost, as a real bus cycle takes time.
@@ -109,7 +86,7 @@ impl SerconBus for NodeBus<'_> {
 pub struct IdleHost;
 
 impl HostProgram for IdleHost {
-    fn wake(&mut self, _bus: &mut NodeBus<'_>, _now: Instant, _why: Wake) -> Option<Instant> {
+    fn wake(&mut self, _bus: &mut dyn SerconBus, _now: Instant, _why: Wake) -> Option<Instant> {
         None
     }
 }
@@ -142,7 +119,7 @@ pub struct StaticImageHost {
 }
 
 impl HostProgram for StaticImageHost {
-    fn wake(&mut self, bus: &mut NodeBus<'_>, _now: Instant, why: Wake) -> Option<Instant> {
+    fn wake(&mut self, bus: &mut dyn SerconBus, _now: Instant, why: Wake) -> Option<Instant> {
         if matches!(why, Wake::Start | Wake::PowerOn) {
             for a in &self.accesses {
                 match a {
