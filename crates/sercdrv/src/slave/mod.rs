@@ -523,7 +523,8 @@ impl<D: SlaveDevice> SlaveDriver<D> {
 
 impl<D: SlaveDevice> HostProgram for SlaveDriver<D> {
     fn wake(&mut self, bus: &mut dyn SerconBus, now: Instant, why: Wake) -> Option<Instant> {
-        if why == Wake::Start || self.state == State::Idle {
+        // A power-on restarts the host processor with a chip fresh out of reset: start over.
+        if matches!(why, Wake::Start | Wake::PowerOn) || self.state == State::Idle {
             self.start(bus, now);
         }
         self.on_interrupt(bus, now);
