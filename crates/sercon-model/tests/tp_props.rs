@@ -79,3 +79,22 @@ proptest! {
         let _ = chip.read(Register::ProgerrFl);
     }
 }
+
+/// Regression (fuzz target `chip_ram_line`, timeout): a 410B master whose RAM repeats
+/// 717AH, 0000H must run 1 ms of cycles in bounded work.
+#[test]
+fn repeating_ram_pattern_runs_in_bounded_time() {
+    let mut chip = Chip::new(ChipConfig::sercon410b());
+    for a in 0..1024u16 {
+        chip.write_ram(a, if a % 2 == 0 { 0x717A } else { 0 });
+    }
+    chip.write(Register::MclkDiv, 19);
+    chip.write(Register::Tscyc0, 50);
+    chip.write(Register::Ctrl3, 1 << 8);
+    chip.write(Register::Ctrl0C, 0b11 | (1 << 10));
+    for t in 1..=10u64 {
+        chip.advance_to(Instant::ZERO + Duration::from_micros(100 * t));
+    }
+    // 410B §4.1 17H PROGERR_FL bit 1 (spec-notes): the header list loops.
+    assert_ne!(chip.read(Register::ProgerrFl) & 0b10, 0);
+}

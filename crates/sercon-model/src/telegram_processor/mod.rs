@@ -66,6 +66,27 @@ pub(crate) struct Block {
     pub(crate) steps: u32,
     /// Tick at which the last telegram of the block ended.
     pub(crate) last_end: u64,
+    /// Header addresses reached in this block (one bit per RAM word).
+    pub(crate) visited: Visited,
+}
+
+/// One bit per RAM word (2048 words at most, 816 §2.5): the headers a block has reached.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Visited([u64; 32]);
+
+impl Visited {
+    const EMPTY: Visited = Visited([0; 32]);
+
+    /// Marks `addr`; returns whether it was marked already.
+    fn mark(&mut self, addr: u16) -> bool {
+        let (i, bit) = (usize::from(addr / 64) % 32, 1u64 << (addr % 64));
+        let Some(w) = self.0.get_mut(i) else {
+            return false;
+        };
+        let seen = *w & bit != 0;
+        *w |= bit;
+        seen
+    }
 }
 
 /// What a frame being received is to the processor.
@@ -352,6 +373,7 @@ pub(crate) fn start_block(chip: &mut Chip, tick: u64, block: u8) {
         cur: None,
         steps: 0,
         last_end: tick,
+        visited: Visited::EMPTY,
     });
     let compt = walk::word(&chip.ram, u32::from(block & 1)).unwrap_or(0);
     load(chip, tick, compt);
@@ -392,6 +414,13 @@ fn load(chip: &mut Chip, tick: u64, ptr: u16) {
     }
     let variant = chip.cfg.variant;
     let ptr = ptr & variant.pointer_mask();
+    if chip.tp.block.as_mut().is_some_and(|b| b.visited.mark(ptr)) {
+        // A header reached twice in one block: the list loops and never reaches its end
+        // marker (410B §4.2.1 PT). Found at once, so a loop costs one pass over its headers.
+        prog_error(chip, ProgErr::NoEndMarker);
+        abort_block(chip, tick);
+        return;
+    }
     let header = match walk::header_at(&chip.ram, variant, ptr) {
         Ok(h) => h,
         Err(e) => {

@@ -1,0 +1,128 @@
+//! Fuzz target `chip_ram_line`: an arbitrary RAM image, register writes and arbitrary line
+//! segments (bits with or without a possibly wrong hint, filler, dark, light, any bit time)
+//! fed to a chip that is advanced in bounded steps must never panic or hang
+//! (`crates/sercon-model`: "no panics from input"; 410B §4.2 every RAM walk is bounded).
+//!
+//! Input: byte 0 picks the variant, master/slave and tracing; then 512 bytes of RAM image
+//! (256 words from word 0, the rest of the RAM filled by repeating them); then 4-byte
+//! records `op, a, b, c`: op % 4 = 0 write register a := bc, 1 line segment (kind a % 4,
+//! bit time from b, length from c, the following c bytes as bits / hint telegram),
+//! 2 advance by (bc + 1) × 100 ns, 3 read RAM / registers. At most 256 records.
+//!
+//! Build: `cargo fuzz build --sanitizer none chip_ram_line`
+
+#![no_main]
+
+use std::sync::Arc;
+
+use libfuzzer_sys::fuzz_target;
+use sercon_model::pins::PinSet;
+use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal};
+use sercon_model::{Chip, ChipConfig};
+use sercon_regs::SerconBus;
+use sercos_wire::line::BitVec;
+use sercos_wire::time::Duration;
+
+fuzz_target!(|data: &[u8]| {
+    let Some((&h0, rest)) = data.split_first() else {
+        return;
+    };
+    let mut chip = Chip::new(if h0 & 1 == 0 {
+        ChipConfig::sercon816()
+    } else {
+        ChipConfig::sercon410b()
+    });
+    if h0 & 2 != 0 {
+        chip.set_traced_pins(PinSet::ALL);
+    }
+    let (image, mut body) = rest.split_at(rest.len().min(512));
+    let words: Vec<u16> = image
+        .chunks(2)
+        .map(|c| u16::from_le_bytes([c[0], c.get(1).copied().unwrap_or(0)]))
+        .collect();
+    if !words.is_empty() {
+        for a in 0..chip.config().variant.ram_words() {
+            let w = words[usize::from(a) % words.len()];
+            chip.write_ram(a, w);
+        }
+    }
+    // A running chip: 1 µs unit, cycles of 50 µs, telegrams on, master or slave.
+    chip.write_register(0x0E, if h0 & 1 == 0 { 31 } else { 19 });
+    chip.write_register(0x0F, 50);
+    chip.write_register(0x03, 1 << 8);
+    chip.write_register(0x0C, if h0 & 4 != 0 { 0b11 | (1 << 10) } else { 1 });
+    let mut out = Vec::new();
+    let mut events = Vec::new();
+    let mut frames = Vec::new();
+    let mut next_start = chip.now();
+    let mut records = 0;
+    while let [op, a, b, c, tail @ ..] = body {
+        body = tail;
+        records += 1;
+        if records > 256 {
+            break;
+        }
+        match op % 4 {
+            0 => chip.write_register(*a, u16::from_be_bytes([*b, *c])),
+            1 => {
+                let n = usize::from(*c).min(body.len());
+                let (payload, tail) = body.split_at(n);
+                body = tail;
+                // Bit times from 10 ns to 2.56 µs; segments in order of their start.
+                let bit_time = Duration::from_nanos(10 * (u64::from(*b) + 1));
+                let start = next_start.max(chip.now());
+                let signal = match a % 4 {
+                    0 => {
+                        let mut bits = BitVec::with_capacity(n * 8);
+                        for byte in payload {
+                            for i in 0..8 {
+                                bits.push(byte >> (7 - i) & 1 == 1);
+                            }
+                        }
+                        LineSignal::Bits(Arc::new(bits))
+                    }
+                    1 => LineSignal::Filler,
+                    2 => LineSignal::Dark,
+                    _ => LineSignal::Light,
+                };
+                let hint = (a & 0x10 != 0 && !payload.is_empty()).then(|| FrameHint {
+                    telegram: Arc::from(payload),
+                    offset: u64::from(a >> 5),
+                });
+                let seg = LineSegment {
+                    start,
+                    bit_time,
+                    signal,
+                    level_before: a & 4 != 0,
+                    hint,
+                    distorted: a & 8 != 0,
+                };
+                next_start = seg.end().unwrap_or(start);
+                chip.line_input(seg);
+            }
+            2 => {
+                let step = Duration::from_nanos(100 * (u64::from(u16::from_be_bytes([*b, *c])) + 1));
+                let t = chip.now().saturating_add(step);
+                chip.advance_to(t);
+                chip.take_line_output(&mut out);
+                chip.drain_pin_events(&mut events);
+                chip.take_rx_frames(&mut frames);
+                out.clear();
+                events.clear();
+                frames.clear();
+                let _ = chip.next_deadline();
+                let _ = chip.next_event_at();
+            }
+            _ => {
+                let _ = chip.read_ram(u16::from_be_bytes([*a, *b]));
+                let _ = chip.read_register(*c);
+                let _ = chip.dma_read_receive();
+                chip.dma_write_transmit(u16::from(*a));
+            }
+        }
+    }
+    // A bounded tail: one more millisecond.
+    let end = chip.now().saturating_add(Duration::from_millis(1));
+    chip.advance_to(end);
+    chip.take_line_output(&mut out);
+});
