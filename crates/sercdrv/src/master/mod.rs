@@ -110,6 +110,9 @@ pub struct Master {
     cycles: u64,
     service_requests: u64,
     restarts: u32,
+    /// INT_FIBBR came since the last cycle end; cycles in a row without receive signal.
+    fibbr_seen: bool,
+    dark_cycles: u32,
 }
 
 impl Master {
@@ -174,6 +177,8 @@ impl Master {
             cycles: 0,
             service_requests: 0,
             restarts: 0,
+            fibbr_seen: false,
+            dark_cycles: 0,
         })
     }
 
@@ -434,6 +439,13 @@ impl Master {
 
     fn on_cycle_end<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) {
         self.cycles = self.cycles.saturating_add(1);
+        // 410B §4.1 4H.1 INT_FIBBR: the receive line lost its edges during this cycle.
+        let dark = std::mem::take(&mut self.fibbr_seen);
+        self.dark_cycles = if dark {
+            self.dark_cycles.saturating_add(1)
+        } else {
+            0
+        };
         match self.state.clone() {
             State::Idle | State::Halted => {}
             State::Phase0 { closed } => self.phase0(bus, closed),
@@ -972,7 +984,15 @@ impl Master {
         image.write_commands(bus);
         let silent = if ok == 0 { silent.saturating_add(1) } else { 0 };
         if silent >= self.cfg.mst_loss_cycles.max(1) {
-            let error = self.error(None, None, MasterErrorKind::MstLost);
+            // No AT for several cycles: a receive line that kept losing its edges
+            // (INT_FIBBR every one of those cycles, 410B §4.1 4H.1) is a broken ring, else
+            // the MST does not get round (spec-notes).
+            let kind = if self.dark_cycles >= silent {
+                MasterErrorKind::RingBroken
+            } else {
+                MasterErrorKind::MstLost
+            };
+            let error = self.error(None, None, kind);
             self.restart(bus, error);
             return None;
         }
@@ -1025,34 +1045,64 @@ pub enum CyclicError {
     NoData(DriveAddress),
 }
 
+impl Master {
+    /// Serves the interrupt flags of 4H until none of the master's is left: a level
+    /// interrupt that stays active gives no new edge, so the handler looks again before it
+    /// returns (410B §4.1 3H.0 INTFL0 shows the request).
+    fn serve_flags<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) {
+        for _ in 0..4 {
+            // 410B §4.1 4H: read the flags, write 1 to clear what was seen (ERRATA).
+            let flags = bus.read_reg::<IntFlagsLo>();
+            if !flags.is_empty() {
+                bus.clear_int_lo(flags);
+            }
+            if !flags.intersects(chip_init::MASTER_INTERRUPTS) {
+                return;
+            }
+            if flags.contains(IntFlagsLo::INT_FIBBR) {
+                self.fibbr_seen = true;
+            }
+            if flags.contains(IntFlagsLo::INT_COMEND) {
+                self.on_cycle_end(bus, now);
+            }
+        }
+    }
+}
+
 impl HostProgram for Master {
     fn wake(&mut self, bus: &mut dyn SerconBus, now: Instant, why: Wake) -> Option<Instant> {
         match why {
-            Wake::Start => {
+            Wake::Interrupt { .. } => self.serve_flags(bus, now),
+            Wake::Deadline => {
+                self.serve_flags(bus, now);
+                if let Some(sc) = self.sc.as_mut() {
+                    for completion in sc.poll(bus, now) {
+                        self.service_requests = self.service_requests.saturating_add(1);
+                        if !self.complete(completion) {
+                            break;
+                        }
+                    }
+                }
+            }
+            _ => {
+                // Start (the first call, and again after a power-on): the chip is fresh out of reset, so the ring is brought up from the start.
+                if !matches!(self.state, State::Idle) {
+                    self.restarts = self.restarts.saturating_add(1);
+                }
+                self.lanes.clear();
+                self.cyclic = None;
+                self.addressed = None;
+                self.previous = None;
+                self.dark_cycles = 0;
+                for d in &mut self.drives {
+                    d.status.answered = false;
+                }
                 if let Err(error) = self.start(bus) {
                     self.halt(error);
                 }
             }
-            Wake::Interrupt { .. } | Wake::Deadline => {
-                // 410B §4.1 4H: read the flags, write 1 to clear what was seen (ERRATA).
-                let flags = bus.read_reg::<IntFlagsLo>();
-                if !flags.is_empty() {
-                    bus.clear_int_lo(flags);
-                }
-                if flags.contains(IntFlagsLo::INT_FIBBR)
-                    && !matches!(
-                        self.state,
-                        State::Idle | State::Halted | State::Phase0 { .. }
-                    )
-                {
-                    let error = self.error(None, None, MasterErrorKind::RingBroken);
-                    self.restart(bus, error);
-                }
-                if flags.contains(IntFlagsLo::INT_COMEND) {
-                    self.on_cycle_end(bus, now);
-                }
-            }
         }
+        self.serve_flags(bus, now);
         self.sc
             .as_ref()
             .and_then(ServiceChannelMaster::next_deadline)
