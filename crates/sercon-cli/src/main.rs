@@ -5,6 +5,7 @@
 
 use clap::{Parser, Subcommand};
 
+mod bench;
 mod capture;
 mod idn_text;
 mod script;
@@ -19,6 +20,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Measure the ring simulator's speed on fixed scenarios (real-time factor).
+    Bench(bench::BenchArgs),
     /// Decode real SERCOS II line captures.
     #[command(subcommand)]
     Capture(capture::CaptureCommand),
@@ -29,6 +32,7 @@ enum Command {
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Bench(args) => bench::run(args),
         Command::Capture(cmd) => capture::run(cmd),
         Command::Script(args) => script::run(args),
     };

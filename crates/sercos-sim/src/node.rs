@@ -40,8 +40,10 @@ pub(crate) struct Node {
     pub(crate) resume: Option<Instant>,
     /// The output line is taken up to here (simulation time).
     pub(crate) out_floor: Instant,
-    /// The last segment on the output line (simulation time).
+    /// The last segment on the output line (simulation time), when levels are followed.
     pub(crate) last_out: Option<LineSegment>,
+    /// Follow the output line's level (reference path).
+    pub(crate) track_levels: bool,
     /// Start of the last input segment (local time).
     pub(crate) in_floor: Instant,
     /// The last segment handed to the receiver (local time).
@@ -74,6 +76,7 @@ impl Node {
             resume: None,
             out_floor: Instant::ZERO,
             last_out: None,
+            track_levels: true,
             in_floor: Instant::ZERO,
             last_in: None,
             repeating: false,
@@ -143,6 +146,12 @@ impl Node {
     /// an inverted telegram the same); an own steady signal starts from that level.
     pub(crate) fn put_out(&mut self, mut seg: LineSegment, own: bool) -> LineSegment {
         seg.start = seg.start.max(self.out_floor);
+        if !self.track_levels {
+            // Fast path: receivers take telegrams from the level they are at (see
+            // `Simulation::deliver`), so the output's level need not be followed.
+            self.out_floor = seg.end().unwrap_or(seg.start);
+            return seg;
+        }
         if let Some(last) = &self.last_out {
             let level = last.level_at(seg.start);
             match seg.signal {

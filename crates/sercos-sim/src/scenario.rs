@@ -41,13 +41,17 @@ pub struct BenchResult {
     pub wall_us_per_cycle: f64,
     /// Telegram bytes per cycle (MST, MDT, ATs).
     pub bytes_per_cycle: u64,
+    /// Simulation events per cycle.
+    pub events_per_cycle: f64,
+    /// Segments handed to receivers per cycle.
+    pub deliveries_per_cycle: f64,
 }
 
 impl BenchResult {
     /// One JSON object on one line.
     pub fn to_json(&self) -> String {
         format!(
-            "{{\"scenario\":\"{}\",\"slaves\":{},\"bit_rate_mbit\":{},\"cycle_us\":{},\"phase\":{},\"sim_s\":{:.6},\"wall_s\":{:.6},\"rtf\":{:.3},\"wall_us_per_cycle\":{:.3},\"bytes_per_cycle\":{}}}",
+            "{{\"scenario\":\"{}\",\"slaves\":{},\"bit_rate_mbit\":{},\"cycle_us\":{},\"phase\":{},\"sim_s\":{:.6},\"wall_s\":{:.6},\"rtf\":{:.3},\"wall_us_per_cycle\":{:.3},\"bytes_per_cycle\":{},\"events_per_cycle\":{:.1},\"deliveries_per_cycle\":{:.1}}}",
             self.scenario,
             self.slaves,
             self.bit_rate_mbit,
@@ -57,7 +61,9 @@ impl BenchResult {
             self.wall_s,
             self.rtf,
             self.wall_us_per_cycle,
-            self.bytes_per_cycle
+            self.bytes_per_cycle,
+            self.events_per_cycle,
+            self.deliveries_per_cycle
         )
     }
 }
@@ -70,18 +76,22 @@ pub fn ring_8() -> Scenario {
     }
 }
 
-/// `ring-n`: master + n slaves, 16 Mbit/s, 4 ms cycle, 1 word each way.
+/// `ring-n<n>` (`ring-254` for 254): master + n slaves, 16 Mbit/s, 4 ms cycle, 1 word
+/// each way.
 pub fn ring_n(n: usize) -> Scenario {
     let mut ring = StaticRing::new(n, 4000);
     ring.mdt_words = 1;
     ring.at_words = 1;
-    Scenario {
-        name: format!("ring-{n}"),
-        ring,
-    }
+    let name = if n == 254 {
+        "ring-254".to_string()
+    } else {
+        format!("ring-n{n}")
+    };
+    Scenario { name, ring }
 }
 
-/// Every scenario `sercon bench` runs.
+/// Every scenario `sercon bench` runs: `ring-8` (250 µs, 8 words), and the 4 ms rings of
+/// 8, 32, 128 and 254 slaves for the growth of wall time per cycle.
 pub fn all() -> Vec<Scenario> {
     vec![ring_8(), ring_n(8), ring_n(32), ring_n(128), ring_n(254)]
 }
@@ -110,9 +120,12 @@ pub fn run(s: &Scenario, cycles: u64) -> Result<BenchResult, SimError> {
     let cycle = Duration::from_micros(u64::from(s.ring.cycle_us));
     let start = sim.now();
     let end = start + cycle.saturating_mul(cycles);
+    let before = sim.stats();
     let wall = WallInstant::now();
     sim.run_until(end)?;
     let wall_s = wall.elapsed().as_secs_f64();
+    let after = sim.stats();
+    let per = |a: u64, b: u64| a.saturating_sub(b) as f64 / cycles.max(1) as f64;
     let sim_s = end.saturating_duration_since(start).as_secs_f64();
     Ok(BenchResult {
         scenario: s.name.clone(),
@@ -129,5 +142,7 @@ pub fn run(s: &Scenario, cycles: u64) -> Result<BenchResult, SimError> {
         },
         wall_us_per_cycle: wall_s * 1e6 / cycles.max(1) as f64,
         bytes_per_cycle: bytes_per_cycle(&s.ring),
+        events_per_cycle: per(after.events, before.events),
+        deliveries_per_cycle: per(after.deliveries, before.deliveries),
     })
 }

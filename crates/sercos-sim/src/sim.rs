@@ -60,6 +60,8 @@ struct Segment {
     faults: SegmentFaults,
     /// The last segment that entered it (simulation time) and its origin.
     last_entered: Option<(LineSegment, usize)>,
+    /// Keep `last_entered` (a break's repair or a power-on downstream replays it).
+    keep_last: bool,
 }
 
 /// A running simulation.
@@ -76,8 +78,21 @@ pub struct Simulation {
     is_touched: Vec<bool>,
     buf: Vec<LineSegment>,
     pins: Vec<PinEvent>,
+    rx_frames: Vec<sercon_model::serial_port::RxFrame>,
     bus_busy_until: Instant,
     now: Instant,
+    lookahead: Lookahead,
+}
+
+/// How a node's next wake is found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Lookahead {
+    /// At the chip's next internal event (`Chip::next_event_at`): more wakes, each cheap.
+    #[default]
+    Events,
+    /// At the chip's next observable instant (`Chip::next_deadline`): fewer wakes, each
+    /// with a look-ahead probe.
+    Observable,
 }
 
 impl Simulation {
@@ -119,6 +134,7 @@ impl Simulation {
                 Chip::try_new(nc.chip).map_err(|source| SimError::Chip { node: i, source })?;
             let clock = NodeClock::new(ppm_to_ppb(nc.mclk_error_ppm));
             let mut node = Node::new(nc.clone(), chip, host, clock);
+            node.track_levels = cfg.delivery == Delivery::Exact;
             for f in &cfg.faults {
                 if let FaultKind::PowerOff { node: j, until } = f.kind
                     && j == i
@@ -142,10 +158,24 @@ impl Simulation {
         let segments = seg_delays
             .iter()
             .enumerate()
-            .map(|(k, d)| Segment {
-                delay: *d,
-                faults: SegmentFaults::new(&cfg.faults, k, cfg.seed),
-                last_entered: None,
+            .map(|(k, d)| {
+                let faults = SegmentFaults::new(&cfg.faults, k, cfg.seed);
+                let downstream = if seg_delays.len() == 1 {
+                    None
+                } else {
+                    Some((k + 1) % n)
+                };
+                let keep_last = !faults.is_clean()
+                    || cfg.faults.iter().any(|f| {
+                        matches!(f.kind, FaultKind::PowerOff { node, .. }
+                            if downstream.is_none_or(|d| d == node))
+                    });
+                Segment {
+                    delay: *d,
+                    faults,
+                    last_entered: None,
+                    keep_last,
+                }
             })
             .collect();
         let mut sim = Simulation {
@@ -161,8 +191,10 @@ impl Simulation {
             is_touched: vec![false; n],
             buf: Vec::new(),
             pins: Vec::new(),
+            rx_frames: Vec::new(),
             bus_busy_until: Instant::ZERO,
             now: Instant::ZERO,
+            lookahead: Lookahead::default(),
         };
         for (i, f) in sim.faults.iter().enumerate() {
             let target = ComponentId(u32::try_from(n + i).unwrap_or(u32::MAX));
@@ -187,6 +219,11 @@ impl Simulation {
         }
         sim.settle()?;
         Ok(sim)
+    }
+
+    /// Chooses how nodes' wakes are found (both give the same traces; a matter of speed).
+    pub fn set_lookahead(&mut self, l: Lookahead) {
+        self.lookahead = l;
     }
 
     /// The current simulation time.
@@ -336,6 +373,9 @@ impl Simulation {
                 self.recorder.pin_event(v, e);
             }
         }
+        // The receiver's frame log is for tools; emptied here it costs nothing to copy.
+        node.chip.take_rx_frames(&mut self.rx_frames);
+        self.rx_frames.clear();
         let mut out = std::mem::take(&mut self.buf);
         node.chip.take_line_output(&mut out);
         for seg in out.drain(..) {
@@ -389,7 +429,9 @@ impl Simulation {
                 return;
             };
             if enter {
-                s.last_entered = Some((seg.clone(), origin));
+                if s.keep_last {
+                    s.last_entered = Some((seg.clone(), origin));
+                }
                 if s.faults.broken_at(seg.start) {
                     return;
                 }
@@ -441,7 +483,9 @@ impl Simulation {
         let Some(s) = self.segments.get_mut(0) else {
             return;
         };
-        s.last_entered = Some((seg.clone(), origin));
+        if s.keep_last {
+            s.last_entered = Some((seg.clone(), origin));
+        }
         if s.faults.broken_at(seg.start) {
             return;
         }
@@ -515,6 +559,7 @@ impl Simulation {
     fn reschedule(&mut self, j: usize) -> Result<(), SimError> {
         let now = self.now;
         let exact = self.delivery == Delivery::Exact;
+        let lookahead = self.lookahead;
         let Some(node) = self.nodes.get_mut(j) else {
             return Ok(());
         };
@@ -526,7 +571,13 @@ impl Simulation {
                     next = Some(next.map_or(t, |n: Instant| n.min(t)));
                 }
             };
-            cand(node.chip.next_deadline());
+            // The chip's next internal event: cheaper to ask than the next observable
+            // instant (no look-ahead probe), and every interrupt change is seen at once.
+            if lookahead == Lookahead::Events {
+                cand(node.chip.next_event_at());
+            } else {
+                cand(node.chip.next_deadline());
+            }
             cand(node.host_deadline);
             cand(node.resume.filter(|r| *r > chip_now));
             let out = node.chip.next_line_output_at();
