@@ -64,7 +64,7 @@ enum State {
     Phase1 { next: usize, checked: u32 },
     Phase2Read,
     Phase2Config,
-    Phase3,
+    Phase3 { silent: u32 },
     Phase4 { silent: u32 },
     Halted,
 }
@@ -213,7 +213,7 @@ impl Master {
             State::Phase1 { .. } => Progress::DetectingDrives,
             State::Phase2Read => Progress::ReadingParameters,
             State::Phase2Config => Progress::Configuring,
-            State::Phase3 => Progress::CheckingPhase4,
+            State::Phase3 { .. } => Progress::CheckingPhase4,
             State::Phase4 { .. } => Progress::Cyclic,
             State::Halted => Progress::Halted,
         }
@@ -451,7 +451,7 @@ impl Master {
             State::Phase0 { closed } => self.phase0(bus, closed),
             State::Phase1 { next, checked } => self.phase1(bus, next, checked),
             State::Phase2Read | State::Phase2Config => self.phase2(bus, now),
-            State::Phase3 => self.phase3(bus, now),
+            State::Phase3 { silent } => self.phase3(bus, now, silent),
             State::Phase4 { silent } => self.phase4(bus, now, silent),
         }
     }
@@ -828,7 +828,10 @@ impl Master {
                 Purpose::Write,
             ));
             reset.extend(Item::command(a, RESET_CLASS_1));
-            check.extend(Item::command(a, Idn::PHASE_3_TRANSITION_CHECK));
+            // The check stays set until the drive is in phase 3 (the emulated drive takes a
+            // phase only while its check reads "executed"); it is acknowledged there.
+            let [set, poll, _] = Item::command(a, Idn::PHASE_3_TRANSITION_CHECK);
+            check.extend([set, poll]);
         }
         writes.extend(reset);
         writes.extend(check);
@@ -860,10 +863,12 @@ impl Master {
         let block1 = full
             .writes
             .iter()
-            .find(|w| w.address == COMPT1)
+            .rfind(|w| w.address == COMPT1)
             .map(|w| w.word)
+            .filter(|&start| start > COMPT1)
             .ok_or(self.error(None, None, MasterErrorKind::Config("no phase 3-4 block")))?;
-        // Everything of block 1 first, COMPT1 last (410B §4.2: COMPT1, start of block 1).
+        // Everything of block 1 first, COMPT1 last (410B §4.2: COMPT1, start of block 1;
+        // the layout zeroes the fixed words first, so its last write of COMPT1 counts).
         for w in full.writes.iter().filter(|w| w.address >= block1) {
             bus.write_ram(w.address, w.word);
         }
@@ -902,13 +907,13 @@ impl Master {
             .drives
             .iter()
             .map(|d| {
-                Lane::new(Item::command(
-                    d.status.address,
-                    Idn::PHASE_4_TRANSITION_CHECK,
-                ))
+                let a = d.status.address;
+                let [set, poll, _] = Item::command(a, Idn::PHASE_4_TRANSITION_CHECK);
+                let ack = Request::cancel_command(Idn::PHASE_3_TRANSITION_CHECK);
+                Lane::new([Item::new(a, ack, Purpose::CommandCancel), set, poll])
             })
             .collect();
-        self.state = State::Phase3;
+        self.state = State::Phase3 { silent: 0 };
         Ok(())
     }
 
@@ -999,8 +1004,17 @@ impl Master {
         Some(silent)
     }
 
-    fn phase3<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) {
-        if self.exchange(bus, 0).is_none() {
+    fn phase3<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant, silent: u32) {
+        let Some(silent) = self.exchange(bus, silent) else {
+            return;
+        };
+        if let State::Phase3 { .. } = self.state {
+            self.state = State::Phase3 { silent };
+        }
+        // The drives take phase 3 from the MST and answer in their phase-3 ATs; S-0-0128
+        // ("only in phase 3", sercos-facts.md) is started once every drive's AT has come
+        // twice (spec-notes).
+        if !self.drives.iter().all(|d| d.status.ats_received >= 2) {
             return;
         }
         if !self.run_lanes(bus, now) {
@@ -1009,6 +1023,12 @@ impl Master {
         if self.lanes.iter().all(Lane::is_done) {
             self.enter_phase(bus, 4);
             self.state = State::Phase4 { silent: 0 };
+            // S-0-0128 is acknowledged once the drives are in phase 4.
+            let ack = |a| {
+                let request = Request::cancel_command(Idn::PHASE_4_TRANSITION_CHECK);
+                Lane::new([Item::new(a, request, Purpose::CommandCancel)])
+            };
+            self.lanes = self.drives.iter().map(|d| ack(d.status.address)).collect();
         }
     }
 
