@@ -162,8 +162,13 @@ impl Receiver {
                 if let Some(hint) = hinted {
                     // The hint's telegram: its flags start and end with a 0, an edge in NRZI,
                     // and no valid NRZI signal goes FIBBR_BIT_TIMES without one.
+                    // Inside it an edge comes at least every seven bit times (flags, bit
+                    // stuffing), so FIBBR cannot rise before its last edge.
                     self.edge(seg.start, events);
-                    self.edge(end.saturating_sub_bits(seg.bit_time), events);
+                    self.fibbr_deadline = Some(
+                        end.saturating_sub_bits(seg.bit_time)
+                            .saturating_add(self.timeout),
+                    );
                     let start = seg
                         .start
                         .saturating_add(seg.bit_time.saturating_mul(hint.offset));
