@@ -52,6 +52,8 @@ pub struct SimStats {
     pub out_of_order: u64,
     /// Overlapping transmissions on the bus.
     pub collisions: u64,
+    /// Segments that reached a receiver whose chip had already passed their start.
+    pub late: u64,
 }
 
 /// One segment (fibre, or the bus) as the simulation sees it.
@@ -495,8 +497,10 @@ impl Simulation {
             // telegram (every other bit inverted), without hint.
             self.stats.collisions += 1;
             let mut g = BitVec::with_capacity(usize::try_from(bits.len()).unwrap_or(0));
+            // The opening flag still gets through, so receivers see a broken frame.
+            let keep = seg.hint.as_ref().map_or(0, |h| h.offset) + 8;
             for (i, b) in bits.bits().iter().enumerate() {
-                g.push(b ^ (i % 2 == 1));
+                g.push(b ^ (i as u64 >= keep && i % 2 == 1));
             }
             LineSegment {
                 signal: LineSignal::Bits(Arc::new(g)),
@@ -549,6 +553,9 @@ impl Simulation {
             let lat = local.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
             node.expect
                 .push_back((local.start.saturating_add(lat), origin));
+        }
+        if local.start < node.chip.now() {
+            self.stats.late += 1;
         }
         node.chip.line_input(local);
         self.stats.deliveries += 1;

@@ -35,6 +35,8 @@ const SWBAUD16: u16 = 1 << 15;
 const FIRST_HEADER: u16 = 16;
 /// MDT starts this long after the end of the MST (µs, TRT).
 const MDT_TRT_US: u16 = 4;
+/// Receive window before and after TRT at the master (µs; 410B §4.1 18H, 19H).
+const JTRDEL_US: u16 = 2;
 /// Gap between telegrams (µs).
 const GAP_US: u64 = 2;
 
@@ -57,6 +59,11 @@ pub struct StaticRing {
     pub delivery: Delivery,
     /// Seed.
     pub seed: u64,
+    /// AT TRTs to use instead of the planned ones (index i − 1 for slave i), e.g. to make
+    /// telegrams collide on a bus.
+    pub at_trt_override: Option<Vec<u16>>,
+    /// Slaves repeat (1H.3 REPON = 1): on for a ring, off for an RS-485 bus.
+    pub repon: bool,
 }
 
 impl StaticRing {
@@ -71,6 +78,8 @@ impl StaticRing {
             fibre_m: 10,
             delivery: Delivery::Fast,
             seed: 1,
+            at_trt_override: None,
+            repon: true,
         }
     }
 }
@@ -172,11 +181,23 @@ impl StaticRing {
             at_trt.push(u16::try_from(t).map_err(|_| SimError::Layout("TRT overflow".into()))?);
             t += at_us + GAP_US;
         }
+        if let Some(o) = &self.at_trt_override {
+            for (t, v) in at_trt.iter_mut().zip(o) {
+                *t = *v;
+            }
+        }
         let ring_us = (Duration::from_nanos(5)
             .saturating_mul(u64::from(self.fibre_m) * (n as u64 + 1))
             + bt.saturating_mul(2 * n as u64))
         .as_picos()
         .div_ceil(1_000_000);
+        let ring_floor_us = u16::try_from(
+            (Duration::from_nanos(5).saturating_mul(u64::from(self.fibre_m) * (n as u64 + 1))
+                + bt.saturating_mul(2 * n as u64))
+            .as_picos()
+                / 1_000_000,
+        )
+        .unwrap_or(u16::MAX);
         let mst_us = us(worst_frame_bits(2));
         if mst_us + t + ring_us > u64::from(self.cycle_us) {
             return Err(SimError::Layout(format!(
@@ -238,10 +259,13 @@ impl StaticRing {
         for (i, trt) in at_trt.iter().enumerate() {
             let len = if at_stored { self.at_words } else { 0 };
             let next = p + 7 + len;
+            // 410B §4.2.1 TCHK: each AT is expected in its own window (18H/19H JTRDEL1/2
+            // µs around TRT), TRT counted at the master, i.e. after the ring delay.
             let h = RxHeader {
                 adr: (i + 1) as u8,
                 achk: true,
-                trt: *trt,
+                tchk: true,
+                trt: trt.saturating_add(ring_floor_us),
                 tlen: self.at_words,
                 pt: next,
                 ..RxHeader::default()
@@ -272,6 +296,8 @@ impl StaticRing {
             .map(|(address, words)| Access::Ram { address, words })
             .collect();
         acc.extend(common(false));
+        acc.push(reg(Register::Jtrdel1, JTRDEL_US));
+        acc.push(reg(Register::Jtrdel2, JTRDEL_US));
         // 410B §4.1 0AH PHAS0 = 4 (phase 4), 0CH: master, cycles from now.
         acc.push(reg(Register::Phas, 0x0404));
         acc.push(reg(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART));
@@ -314,7 +340,7 @@ impl StaticRing {
                     words: w,
                 },
             ];
-            acc.extend(common(true));
+            acc.extend(common(self.repon));
             // Slave: PHAS0 ignored (FFH), SERCOS slave (MSTEN, 410B §4.1 0CH.0).
             acc.push(reg(Register::Phas, 0xFF04));
             acc.push(reg(Register::Ctrl0C, MSTEN));
