@@ -178,7 +178,7 @@ impl SegmentFaults {
         // Random errors while a period lasts.
         let bt = seg.bit_time.as_picos().max(1);
         for &(a, b, rate) in &self.errors {
-            if !(rate > 0.0) || b <= seg.start || a > end {
+            if rate.is_nan() || rate <= 0.0 || b <= seg.start || a > end {
                 continue;
             }
             let p = rate.min(1.0);

@@ -40,6 +40,9 @@ const JTRDEL_US: u16 = 2;
 /// Gap between telegrams (µs).
 const GAP_US: u64 = 2;
 
+/// What [`StaticRing::build`] gives: the configuration, one host program per node, the plan.
+pub type BuiltRing = (SimConfig, Vec<Box<dyn HostProgram>>, RingPlan);
+
 /// A static ring to build.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StaticRing {
@@ -152,7 +155,7 @@ fn reg1(rate: BitRate, repon: bool) -> u16 {
 impl StaticRing {
     /// The simulation configuration (SERCON816s, no faults, no traces), one static host per
     /// node, and the plan.
-    pub fn build(&self) -> Result<(SimConfig, Vec<Box<dyn HostProgram>>, RingPlan), SimError> {
+    pub fn build(&self) -> Result<BuiltRing, SimError> {
         let n = self.slaves;
         if n == 0 || n > crate::config::MAX_SLAVES {
             return Err(SimError::TooManySlaves(n));
