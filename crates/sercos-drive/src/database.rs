@@ -5,7 +5,7 @@
 //! returned). Procedure commands (sercos-facts.md, "Procedure commands": 3 = set and enable,
 //! 0 = cancel) run at once when written; see [`crate::procedure`].
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use sercdrv::idn_store::IdnStore;
 use sercos_wire::attribute::{AttributeError, DataLength, Value};
@@ -27,6 +27,10 @@ pub(crate) const DIAGNOSTIC_MESSAGE: Idn = Idn::from_raw(95);
 pub struct IdnDatabase {
     parameters: BTreeMap<Idn, Parameter>,
     commands: BTreeMap<Idn, CommandStatus>,
+    /// Transition checks (S-0-0127, S-0-0128) that passed and still hold: a cancel
+    /// (acknowledgement) keeps them, a write of a parameter they read or a drop of the
+    /// phase forgets them.
+    passed_checks: BTreeSet<Idn>,
     phase: CommunicationPhase,
 }
 
@@ -90,6 +94,15 @@ impl IdnDatabase {
             .get(&idn)
             .copied()
             .unwrap_or(CommandStatus::NotSet)
+    }
+
+    /// Whether transition check `check` (S-0-0127, S-0-0128) has been executed without
+    /// error and still holds: the master may already have acknowledged (cancelled) it, as
+    /// the captures' master does before it switches the phase (docs/spec-notes.md, "Driver
+    /// slave and drive node"). Forgotten when a parameter the check read is written or the
+    /// phase drops.
+    pub fn transition_check_passed(&self, check: Idn) -> bool {
+        self.passed_checks.contains(&check)
     }
 
     /// `true` while a procedure command has finished (executed or failed) and the master has
@@ -220,19 +233,31 @@ impl IdnDatabase {
                 .set_words(words)
                 .map_err(|_| ServiceError::OperationDataInvalid)?;
         }
+        // docs/spec-notes.md "Driver slave and drive node": a check no longer holds once a
+        // parameter it read has changed.
+        self.passed_checks
+            .retain(|&check| !procedure::checked_by(check).contains(&idn));
         Ok(())
     }
 
-    /// Sets the phase; write protection follows it.
+    /// Sets the phase; write protection follows it. A drop of the phase forgets the
+    /// transition checks that passed (the phase-up starts again).
     pub fn set_phase(&mut self, phase: CommunicationPhase) {
+        if phase.number() < self.phase.number() {
+            self.passed_checks.clear();
+        }
         self.phase = phase;
     }
 
     fn start_command(&mut self, idn: Idn) {
         let outcome = procedure::execute(self, idn);
         let status = match outcome {
-            Ok(()) => CommandStatus::Executed,
+            Ok(()) => {
+                self.passed_checks.insert(idn);
+                CommandStatus::Executed
+            }
             Err(message) => {
+                self.passed_checks.remove(&idn);
                 self.set_diagnostic_message(&message);
                 CommandStatus::Error
             }

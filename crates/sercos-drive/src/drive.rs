@@ -115,8 +115,9 @@ impl EmulatedDrive {
     }
 
     /// Follows the MST's phase. Phase 0 is always allowed; otherwise phases step up by one,
-    /// phase 3 only after S-0-0127 executed and phase 4 only after S-0-0128 executed
-    /// (sercos-facts.md, S-0-0127, S-0-0128).
+    /// phase 3 only after S-0-0127 passed and phase 4 only after S-0-0128 passed
+    /// (sercos-facts.md, S-0-0127, S-0-0128), whether or not the master has cancelled
+    /// (acknowledged) the command since ([`IdnDatabase::transition_check_passed`]).
     pub fn set_phase(&mut self, phase: CommunicationPhase) -> Result<(), DriveError> {
         let from = self.phase();
         let refuse = |reason| {
@@ -136,7 +137,10 @@ impl EmulatedDrive {
                 _ => None,
             };
             if let Some(check) = check {
-                if self.database.command_status(check) != CommandStatus::Executed {
+                // sercos-facts.md S-0-0127/S-0-0128; docs/spec-notes.md "Driver slave and
+                // drive node": the check passed and still holds, acknowledged or not (the
+                // captures' master cancels it before it switches the phase).
+                if !self.database.transition_check_passed(check) {
                     return refuse("transition check not executed");
                 }
             }

@@ -828,10 +828,10 @@ impl Master {
                 Purpose::Write,
             ));
             reset.extend(Item::command(a, RESET_CLASS_1));
-            // The check stays set until the drive is in phase 3 (the emulated drive takes a
-            // phase only while its check reads "executed"); it is acknowledged there.
-            let [set, poll, _] = Item::command(a, Idn::PHASE_3_TRANSITION_CHECK);
-            check.extend([set, poll]);
+            // As the captures' master: S-0-0127 set, polled and acknowledged (cancelled) in
+            // phase 2, before the switch; the drive remembers that it passed (spec-notes
+            // "Driver slave and drive node").
+            check.extend(Item::command(a, Idn::PHASE_3_TRANSITION_CHECK));
         }
         writes.extend(reset);
         writes.extend(check);
@@ -906,12 +906,9 @@ impl Master {
         self.lanes = self
             .drives
             .iter()
-            .map(|d| {
-                let a = d.status.address;
-                let [set, poll, _] = Item::command(a, Idn::PHASE_4_TRANSITION_CHECK);
-                let ack = Request::cancel_command(Idn::PHASE_3_TRANSITION_CHECK);
-                Lane::new([Item::new(a, ack, Purpose::CommandCancel), set, poll])
-            })
+            // As the captures' master: S-0-0128 set, polled and acknowledged on every drive
+            // at once, all in phase 3.
+            .map(|d| Lane::new(Item::command(d.status.address, Idn::PHASE_4_TRANSITION_CHECK)))
             .collect();
         self.state = State::Phase3 { silent: 0 };
         Ok(())
@@ -1023,12 +1020,7 @@ impl Master {
         if self.lanes.iter().all(Lane::is_done) {
             self.enter_phase(bus, 4);
             self.state = State::Phase4 { silent: 0 };
-            // S-0-0128 is acknowledged once the drives are in phase 4.
-            let ack = |a| {
-                let request = Request::cancel_command(Idn::PHASE_4_TRANSITION_CHECK);
-                Lane::new([Item::new(a, request, Purpose::CommandCancel)])
-            };
-            self.lanes = self.drives.iter().map(|d| ack(d.status.address)).collect();
+            self.lanes.clear();
         }
     }
 

@@ -8,9 +8,10 @@
 //!   INT_PHASERR, INT_COMEND and INT_SC_0 on INT0 (4H–7H, 3H).
 //! * **Phases.** PHAS0 holds the current phase, PHAS1 the next one the slave accepts, so
 //!   the chip follows an accepted step at once (410B §4.1 0AH, 0CH COMBLK0/1): 0 → 1 → 2
-//!   always, 2 → 3 only when S-0-0127 has been executed and the phase 3–4 RAM (block 1,
+//!   always, 2 → 3 only when S-0-0127 has passed and the phase 3–4 RAM (block 1,
 //!   from S-0-0002/6/9/10/89 and the device's cyclic lengths) is laid out, 3 → 4 only when
-//!   S-0-0128 has been executed. Any other phase is INT_PHASERR: no block is processed and
+//!   S-0-0128 has passed. A check that passed stays passed when the master acknowledges
+//!   (cancels) it, until a parameter it read is written or the phase drops. Any other phase is INT_PHASERR: no block is processed and
 //!   the refusal is reported. INT_PHAS0 takes the slave back to phase 0.
 //! * **Service channel**: the drvsc server ([`ServiceChannelSlave`]) on INT_SC_0, from the
 //!   device's [`IdnStore`](crate::idn_store::IdnStore).
@@ -35,7 +36,8 @@ pub use error::SlaveError;
 pub use events::{PhaseRefusal, SlaveDriverEvent};
 pub use parameters::{
     AT_START, CYCLE_TIME, MDT_LENGTH, MDT_POSITION, MDT_START, PHASE_3_CHECK, PHASE_4_CHECK,
-    command_executed, cyclic_timing, noncyclic_plan, noncyclic_timing, read_number,
+    checked_by, command_executed, command_status, cyclic_timing, noncyclic_plan,
+    noncyclic_timing, read_number,
 };
 
 use sercon_regs::host::{HostProgram, Wake};
@@ -49,7 +51,8 @@ use sercos_wire::telegram::{CommunicationPhase, StatusWord};
 use sercos_wire::time::Instant;
 
 use crate::ram_layout::{self, PhaseGroup, RamLayout, RamLayoutRequest, RegionKind, Role};
-use crate::service_channel::{ContainerSlot, ServiceChannelSlave};
+use crate::service_channel::{ContainerSlot, ServiceChannelSlave, SlaveEvent};
+use sercos_wire::idn::{Element, Idn};
 
 /// Interrupts of 4H the slave serves (410B §4.1 4H.4, 4H.5, 4H.6).
 const SERVED_LO: IntFlagsLo = IntFlagsLo::INT_COMEND
@@ -93,6 +96,10 @@ pub struct SlaveDriver<D> {
     phase: CommunicationPhase,
     programmed: Option<Programmed>,
     last_refused: Option<u8>,
+    /// Transition checks that passed and still hold (acknowledged or not): forgotten when a
+    /// parameter they read is written or the phase drops (spec-notes "Driver slave and
+    /// drive node").
+    passed_checks: Vec<Idn>,
     state: State,
     events: Vec<SlaveDriverEvent>,
 }
@@ -133,6 +140,7 @@ impl<D: SlaveDevice> SlaveDriver<D> {
             phase: CommunicationPhase::Phase0,
             programmed: None,
             last_refused: None,
+            passed_checks: Vec::new(),
             state: State::Idle,
             events: Vec::new(),
         })
@@ -300,6 +308,13 @@ impl<D: SlaveDevice> SlaveDriver<D> {
             if !hi.is_empty() {
                 let events = self.service.on_interrupt(bus, self.device.idn_store(), hi);
                 for e in events {
+                    if let SlaveEvent::Written {
+                        idn,
+                        element: Element::OperationData,
+                    } = e
+                    {
+                        self.note_written(idn);
+                    }
                     self.push(SlaveDriverEvent::Service(e));
                 }
                 self.update_arming(bus);
@@ -329,7 +344,7 @@ impl<D: SlaveDevice> SlaveDriver<D> {
         }
         self.last_refused = Some(requested);
         let reason = match (self.phase.number(), requested) {
-            (2, 3) if self.cyclic.is_none() && !self.check_done(PHASE_3_CHECK) => {
+            (2, 3) if self.cyclic.is_none() && !self.check_passed(PHASE_3_CHECK) => {
                 PhaseRefusal::TransitionCheckNotExecuted(PHASE_3_CHECK)
             }
             (2, 3) => PhaseRefusal::CyclicSetUpFailed,
@@ -344,8 +359,33 @@ impl<D: SlaveDevice> SlaveDriver<D> {
         });
     }
 
-    fn check_done(&mut self, idn: sercos_wire::idn::Idn) -> bool {
-        parameters::command_executed(self.device.idn_store(), idn)
+    /// Whether transition check `check` passed and still holds. The command's status is
+    /// read first: 0007H (executed) records the pass, an error or a new run (bit 3, or
+    /// set without executed) forgets it, 0 (cancelled: the master's acknowledgement, which
+    /// the captures' master sends before it switches the phase) keeps it (sercos-facts.md
+    /// "Procedure commands"; spec-notes "Driver slave and drive node").
+    fn check_passed(&mut self, check: Idn) -> bool {
+        match parameters::command_status(self.device.idn_store(), check) {
+            Some(0x0007) => {
+                if !self.passed_checks.contains(&check) {
+                    self.passed_checks.push(check);
+                }
+            }
+            Some(0) | None => {}
+            Some(_) => self.passed_checks.retain(|&c| c != check),
+        }
+        self.passed_checks.contains(&check)
+    }
+
+    /// The master wrote the operation data of `idn`: a check that read it no longer holds,
+    /// and an armed step to phase 3 is dropped with S-0-0127 (its layout came from them).
+    fn note_written(&mut self, idn: Idn) {
+        self.passed_checks
+            .retain(|&check| !parameters::checked_by(check).contains(&idn));
+        if self.phase == CommunicationPhase::Phase2 && !self.passed_checks.contains(&PHASE_3_CHECK)
+        {
+            self.cyclic = None;
+        }
     }
 
     /// 410B §4.1 4H.4 INT_COMEND: the block ended; the MDT of this cycle is in.
@@ -376,6 +416,10 @@ impl<D: SlaveDevice> SlaveDriver<D> {
     }
 
     fn enter(&mut self, now: Instant, phase: CommunicationPhase) {
+        if phase.number() < self.phase.number() {
+            // A drop of the phase: the phase-up starts again, its checks with it.
+            self.passed_checks.clear();
+        }
         self.phase = phase;
         self.last_refused = None;
         if let Err(refusal) = self.device.enter_phase(now, phase) {
@@ -388,8 +432,9 @@ impl<D: SlaveDevice> SlaveDriver<D> {
     /// acceptable; then programs PHAS0/PHAS1.
     fn update_arming<B: SerconBus + ?Sized>(&mut self, bus: &mut B) {
         if self.phase == CommunicationPhase::Phase2 {
-            // sercos-facts.md S-0-0127: phase 3 only after the transition check.
-            let done = self.check_done(PHASE_3_CHECK);
+            // sercos-facts.md S-0-0127: phase 3 only after the transition check (passed,
+            // acknowledged or not).
+            let done = self.check_passed(PHASE_3_CHECK);
             if done && self.cyclic.is_none() {
                 match self.lay_out_cyclic(bus) {
                     Ok(()) => self.push(SlaveDriverEvent::CyclicSetUp),
@@ -471,7 +516,7 @@ impl<D: SlaveDevice> SlaveDriver<D> {
             }
             // sercos-facts.md S-0-0128: phase 4 only after the transition check.
             CommunicationPhase::Phase3 => self
-                .check_done(PHASE_4_CHECK)
+                .check_passed(PHASE_4_CHECK)
                 .then_some(CommunicationPhase::Phase4),
             CommunicationPhase::Phase4 => None,
         }

@@ -34,6 +34,51 @@ pub const PHASE_4_CHECK: Idn = Idn::from_raw(128);
 /// error bit 3 (spec-notes "IDN attributes ... emulated drive": 0007H).
 const COMMAND_EXECUTED: u16 = 0x0007;
 
+/// The parameters transition check `check` reads (S-0-0127: the timing S-0-0001…-0010,
+/// -0089, -0090, the telegram configuration S-0-0015/-0016/-0024; S-0-0128: S-0-0032 and
+/// the telegram configuration), empty for other commands. A write of one of them after the
+/// check passed makes the slave forget the pass (docs/spec-notes.md, "Driver slave and
+/// drive node").
+pub fn checked_by(check: Idn) -> &'static [Idn] {
+    const PHASE_3: [Idn; 15] = [
+        Idn::from_raw(1),
+        Idn::from_raw(2),
+        Idn::from_raw(3),
+        Idn::from_raw(4),
+        Idn::from_raw(5),
+        Idn::from_raw(6),
+        Idn::from_raw(7),
+        Idn::from_raw(8),
+        Idn::from_raw(9),
+        Idn::from_raw(10),
+        Idn::from_raw(15),
+        Idn::from_raw(16),
+        Idn::from_raw(24),
+        Idn::from_raw(89),
+        Idn::from_raw(90),
+    ];
+    const PHASE_4: [Idn; 4] = [
+        Idn::from_raw(32),
+        Idn::from_raw(15),
+        Idn::from_raw(16),
+        Idn::from_raw(24),
+    ];
+    match check {
+        PHASE_3_CHECK => &PHASE_3,
+        PHASE_4_CHECK => &PHASE_4,
+        _ => &[],
+    }
+}
+
+/// The status word of procedure command `idn` (element 7), if the store has it.
+pub fn command_status<S: IdnStore + ?Sized>(store: &S, idn: Idn) -> Option<u16> {
+    // sercos-facts.md "Procedure commands"; reading element 7 gives the command status.
+    store
+        .read_element(idn, Element::OperationData)
+        .ok()
+        .and_then(|w| w.first().copied())
+}
+
 /// Whether procedure command `idn` has been executed correctly (element 7 reads 0007H).
 pub fn command_executed<S: IdnStore + ?Sized>(store: &S, idn: Idn) -> bool {
     // sercos-facts.md "Procedure commands"; reading element 7 gives the command status.

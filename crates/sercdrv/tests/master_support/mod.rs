@@ -184,3 +184,64 @@ pub fn writes(entries: &[TranscriptEntry]) -> Vec<(u8, u8, String)> {
 pub fn rate(mbit: u32) -> BitRate {
     BitRate::from_mbit(mbit).expect("a SERCOS bit rate")
 }
+
+/// One transcript entry as a line of `sercon capture transcript --json` (fields phase,
+/// drive, op, idn, element, words when written, steps, complete, telegram).
+pub fn json_line(e: &TranscriptEntry) -> String {
+    use sercos_wire::service_transcript::ServiceOp;
+    let op = match e.op {
+        ServiceOp::Read => "read",
+        ServiceOp::Write => "write",
+        ServiceOp::Open => "open",
+    };
+    let mut v = serde_json::json!({
+        "phase": e.phase,
+        "drive": e.drive,
+        "op": op,
+        "idn": e.idn.map(|i| i.to_string()),
+        "element": e.element.bits(),
+        "steps": e.steps,
+        "complete": e.complete,
+        "telegram": e.first_telegram,
+    });
+    if !e.words.is_empty() {
+        v["words"] = serde_json::json!(e.words);
+    }
+    v.to_string()
+}
+
+/// A transcript as JSON lines.
+pub fn json_lines(entries: &[TranscriptEntry]) -> Vec<String> {
+    entries.iter().map(json_line).collect()
+}
+
+/// The folder of the real captures (`../shared/captures/` beside the repository).
+pub fn captures_dir() -> Option<std::path::PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/captures");
+    dir.is_dir().then_some(dir)
+}
+
+/// The service transcripts of both captures, decoded as `sercon capture transcript` does
+/// (NRZI, every telegram with a valid FCS through the transcript builder); `None` when the
+/// captures are not there.
+pub fn capture_transcripts() -> Option<Vec<(String, Vec<TranscriptEntry>)>> {
+    use sercos_wire::line::{self, CaptureFile, Coding, LineConfig, OwnedDecoded, Polarity};
+    let dir = captures_dir()?;
+    let mut out = Vec::new();
+    for name in ["tc2000r-phaseup.nrzi", "tc2000r-phaseup-2.nrzi"] {
+        let bytes = std::fs::read(dir.join(name)).ok()?;
+        let file = CaptureFile::parse(&bytes).expect("a capture file");
+        let frames = line::decode_all(
+            file.bits,
+            LineConfig::new(Coding::Nrzi, Polarity::LightOnLow),
+        );
+        let mut b = TranscriptBuilder::new();
+        for (i, f) in frames.iter().enumerate() {
+            if let OwnedDecoded::Telegram { bytes, .. } = f {
+                b.master_telegram(bytes, i as u64);
+            }
+        }
+        out.push((name.to_string(), b.finish()));
+    }
+    Some(out)
+}
