@@ -160,6 +160,10 @@ impl StaticRing {
         if n == 0 || n > crate::config::MAX_SLAVES {
             return Err(SimError::TooManySlaves(n));
         }
+        // 410B §4.2.2: LEN is 10 bits.
+        if self.mdt_words > 1023 || self.at_words > 1023 {
+            return Err(SimError::Layout("more than 1023 words in a container".into()));
+        }
         let n16 = n as u16;
         let mut chip = ChipConfig::sercon816();
         // 816 §2.3.3: TM0 = TM1 = 1, no test mode (REPON = 1 after reset).

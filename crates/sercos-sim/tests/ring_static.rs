@@ -170,3 +170,13 @@ fn fast_path_gives_the_same_trace_as_the_exact_path() {
         String::from_utf8_lossy(&logs[1])
     );
 }
+
+#[test]
+fn rings_that_do_not_fit_are_refused_not_panicking() {
+    for (slaves, cycle, words) in [(0, 250, 8), (255, 4000, 1), (8, 50, 8), (1, 65535, 1024)] {
+        let mut ring = StaticRing::new(slaves, cycle);
+        ring.mdt_words = words;
+        ring.at_words = words;
+        assert!(ring.build().is_err(), "{slaves} {cycle} {words}");
+    }
+}
