@@ -162,7 +162,9 @@ impl StaticRing {
         }
         // 410B §4.2.2: LEN is 10 bits.
         if self.mdt_words > 1023 || self.at_words > 1023 {
-            return Err(SimError::Layout("more than 1023 words in a container".into()));
+            return Err(SimError::Layout(
+                "more than 1023 words in a container".into(),
+            ));
         }
         let n16 = n as u16;
         let mut chip = ChipConfig::sercon816();
