@@ -8,13 +8,14 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, bail};
 use clap::{Args, Subcommand, ValueEnum};
 use sercos_wire::line::{self, CaptureFile, Coding, LineConfig, OwnedDecoded, Polarity};
-use sercos_wire::service_transcript::{ServiceOp, TranscriptBuilder, TranscriptEntry};
+use sercos_wire::service_transcript::TranscriptBuilder;
 use sercos_wire::telegram::{
     AtPacket, ControlWord, MdtPacket, MstPacket, Origin, TelegramKind, classify,
 };
 use serde::Serialize;
 
 use crate::idn_text;
+use sercon_cli::transcript_json::EntryJson;
 
 /// Subcommands of `sercon capture`.
 #[derive(Debug, Subcommand)]
@@ -304,44 +305,6 @@ fn decode(args: DecodeArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// One transcript entry as JSON (`sercon capture transcript --json`); the schema the
-/// simulated master's transcript shares.
-#[derive(Serialize)]
-struct EntryJson {
-    phase: u8,
-    drive: u8,
-    op: &'static str,
-    idn: Option<String>,
-    element: u8,
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    words: Vec<u16>,
-    steps: u32,
-    complete: bool,
-    telegram: u64,
-}
-
-fn op_name(op: ServiceOp) -> &'static str {
-    match op {
-        ServiceOp::Read => "read",
-        ServiceOp::Write => "write",
-        ServiceOp::Open => "open",
-    }
-}
-
-fn entry_json(e: &TranscriptEntry) -> EntryJson {
-    EntryJson {
-        phase: e.phase,
-        drive: e.drive,
-        op: op_name(e.op),
-        idn: e.idn.map(|i| i.to_string()),
-        element: e.element.bits(),
-        words: e.words.clone(),
-        steps: e.steps,
-        complete: e.complete,
-        telegram: e.first_telegram,
-    }
-}
-
 fn transcript(args: TranscriptArgs) -> anyhow::Result<()> {
     let loaded = load(&args.input)?;
     let mut builder = TranscriptBuilder::new();
@@ -355,7 +318,7 @@ fn transcript(args: TranscriptArgs) -> anyhow::Result<()> {
     let mut out = BufWriter::new(stdout.lock());
     for e in &entries {
         let line = if args.json {
-            serde_json::to_string(&entry_json(e))?
+            serde_json::to_string(&EntryJson::from(e))?
         } else {
             idn_text::transcript_line(e)
         };

@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 mod bench;
 mod capture;
 mod idn_text;
+mod ring_cmd;
 mod script;
 
 /// SERCOS interface tools: line captures, the SERCON controller model, simulated rings.
@@ -25,6 +26,9 @@ enum Command {
     /// Decode real SERCOS II line captures.
     #[command(subcommand)]
     Capture(capture::CaptureCommand),
+    /// Run a simulated ring: a master and emulated drives brought up to phase 4, cyclic
+    /// operation with a motion profile, faults, diagnostics and traces.
+    Ring(ring_cmd::RingArgs),
     /// Run a scripted register sequence on a controller model and write its pins as VCD.
     Script(script::ScriptArgs),
 }
@@ -34,6 +38,7 @@ fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Bench(args) => bench::run(args),
         Command::Capture(cmd) => capture::run(cmd),
+        Command::Ring(args) => ring_cmd::run(args),
         Command::Script(args) => script::run(args),
     };
     match result {

@@ -1,0 +1,12 @@
+//! The library behind the `sercon` command line: what a command does, apart from parsing its
+//! arguments, so that other tools (the IDN tool, the full-stack benchmark) and the tests can
+//! call it.
+//!
+//! * [`ring`]: a full-stack simulated ring (a `sercdrv` master and emulated drives on
+//!   `sercos-sim`), built from a [`ring::RingSpec`], run with progress callbacks, summed up
+//!   in a [`ring::RingReport`].
+//! * [`transcript_json`]: the JSON-lines schema of the master's service-channel transcript,
+//!   shared by `sercon capture transcript --json` and `sercon ring --transcript`.
+
+pub mod ring;
+pub mod transcript_json;

@@ -1,0 +1,434 @@
+//! Runs a ring: phase-up to phase 4, then `run_for` of cyclic operation with the motion
+//! profile, faults placed from the first arrival in phase 4, the chips' line status and
+//! MST counters sampled every cycle; gathers the [`RingReport`].
+
+use sercdrv::master::Progress;
+use sercon_regs::SerconBus;
+use sercon_regs::Variant;
+use sercon_regs::ram::NMSTERR;
+use sercos_sim::recorder::TraceOutput;
+use sercos_wire::address::DriveAddress;
+use sercos_wire::service_transcript::{TranscriptBuilder, TranscriptEntry};
+use sercos_wire::telegram::ControlWord;
+use sercos_wire::time::{Duration, Instant};
+
+use super::error::RingError;
+use super::probes::VELOCITY_COMMAND;
+use super::report::{
+    AxisReport, DriveReport, MasterEvent, RingEvent, RingEventKind, RingReport, RunResult,
+};
+use super::setup::{self, BuiltRing};
+use super::spec::RingSpec;
+
+/// 410B §4.1 2H.13 FIBBR: no edges on the receive data (fibre broken).
+const FIBBR: u16 = 1 << 13;
+/// Register 2H, the status register (410B §4.1).
+const STATUS_REGISTER: u8 = 0x02;
+
+/// Where a run stands, for progress displays.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunProgress {
+    /// Simulated time so far.
+    pub now: Duration,
+    /// The master's phase.
+    pub phase: u8,
+    /// Simulated time of phase-4 operation so far (0 before phase 4).
+    pub operating: Duration,
+    /// Phase-4 operation asked for.
+    pub run_for: Duration,
+}
+
+/// A finished run: its report, the traces, and the master's service-channel transcript
+/// (when asked for).
+#[derive(Debug)]
+pub struct RingOutcome {
+    /// The report.
+    pub report: RingReport,
+    /// The traces the simulator kept (empty where off).
+    pub traces: TraceOutput,
+    /// The master's service channel, rebuilt from its telegrams on fibre 0.
+    pub transcript: Vec<TranscriptEntry>,
+}
+
+/// What the runner samples from the chips every cycle.
+struct Watch {
+    powered: Vec<bool>,
+    mst_count: Vec<u16>,
+    mst_errors: Vec<u64>,
+    first_dark: Option<usize>,
+    lost: Vec<bool>,
+    events: Vec<(Instant, RingEventKind)>,
+}
+
+/// Runs `spec`, calling `progress` once per cycle.
+pub fn run(
+    spec: &RingSpec,
+    progress: &mut dyn FnMut(&RunProgress),
+) -> Result<RingOutcome, RingError> {
+    setup::validate(spec)?;
+    if spec.traces.transcript.is_some() {
+        if spec.traces.log_segment.is_some_and(|s| s != 0) {
+            return Err(RingError::Spec(
+                "--transcript reads fibre 0: use --log-segment 0 or leave it out".into(),
+            ));
+        }
+        let text_log = spec
+            .traces
+            .log
+            .as_ref()
+            .is_some_and(|p| !p.extension().is_some_and(|e| e == "jsonl" || e == "json"));
+        if text_log {
+            return Err(RingError::Spec(
+                "--transcript is built from the JSON log: name the --log file *.jsonl, or leave --log out"
+                    .into(),
+            ));
+        }
+    }
+    let cycle = Duration::from_micros(u64::from(spec.cycle_us));
+    // Faults count from the first arrival in phase 4: find it on the same ring without
+    // faults (the run is deterministic, and the faults only act from then on).
+    let origin = if spec.faults.is_empty() {
+        None
+    } else {
+        let mut probe = setup::build(spec, Vec::new(), false)?;
+        phase_up(&mut probe, spec, cycle, &mut |_, _| {})?
+    };
+    let faults = match origin {
+        Some(t) => setup::sim_faults(spec, t, t.saturating_add(spec.run_for))?,
+        None => Vec::new(),
+    };
+    let mut ring = setup::build(spec, faults, true)?;
+    let mut watch = Watch {
+        powered: vec![true; ring.drives.len() + 1],
+        mst_count: vec![0; ring.drives.len() + 1],
+        mst_errors: vec![0; ring.drives.len() + 1],
+        first_dark: None,
+        lost: vec![false; ring.drives.len() + 1],
+        events: Vec::new(),
+    };
+    let mut on_cycle = |ring: &mut BuiltRing, p: &RunProgress| {
+        sample(ring, spec, &mut watch);
+        progress(p);
+    };
+    let reached = phase_up(&mut ring, spec, cycle, &mut on_cycle)?;
+    if let Some(start) = reached {
+        let end = start.saturating_add(spec.run_for);
+        let addresses: Vec<Option<DriveAddress>> = spec
+            .drives
+            .iter()
+            .map(|d| DriveAddress::new(d.address))
+            .collect();
+        // sercos-telegrams.md control word: drive on (15), enable (14), restart (13);
+        // operation mode bits 9-8 = 0 choose S-0-0032, velocity control.
+        let control =
+            ControlWord::DRIVE_ON | ControlWord::DRIVE_ENABLE | ControlWord::DRIVE_HALT_RESTART;
+        while ring.sim.now() < end {
+            let now = ring.sim.now();
+            let elapsed = now.saturating_duration_since(start);
+            {
+                let mut m = ring.master.borrow_mut();
+                if m.master.progress() == Progress::Cyclic {
+                    for (i, (address, drive)) in addresses.iter().zip(&ring.drives).enumerate() {
+                        let Some(address) = *address else { continue };
+                        let v = spec.profile.velocity_command(i, elapsed);
+                        // Words low first; the 4-byte command is two's complement.
+                        if m.master
+                            .set_command(address, VELOCITY_COMMAND, u64::from(v as u32))
+                            .is_ok()
+                        {
+                            drive.borrow().sent.borrow_mut().insert(i128::from(v));
+                            let _ = m.master.set_control_word(address, control);
+                        }
+                    }
+                }
+            }
+            let next = now.saturating_add(cycle).min(end);
+            ring.sim.run_until(next).map_err(RingError::Sim)?;
+            let p = RunProgress {
+                now: next.since_start(),
+                phase: ring.master.borrow().master.phase(),
+                operating: next.saturating_duration_since(start),
+                run_for: spec.run_for,
+            };
+            on_cycle(&mut ring, &p);
+        }
+    }
+    let traces = ring.sim.finish().map_err(RingError::Sim)?;
+    let transcript = if spec.traces.transcript.is_some() {
+        transcript_of(&traces.log)
+    } else {
+        Vec::new()
+    };
+    let report = gather(&mut ring, spec, reached, watch);
+    Ok(RingOutcome {
+        report,
+        traces,
+        transcript,
+    })
+}
+
+/// Runs cycle by cycle until the master is in cyclic operation (phase 4), halts, or the
+/// limit passes; the time it got there.
+fn phase_up(
+    ring: &mut BuiltRing,
+    spec: &RingSpec,
+    cycle: Duration,
+    on_cycle: &mut dyn FnMut(&mut BuiltRing, &RunProgress),
+) -> Result<Option<Instant>, RingError> {
+    let limit = Instant::ZERO.saturating_add(spec.phase_up_limit);
+    while ring.sim.now() < limit {
+        let next = ring.sim.now().saturating_add(cycle).min(limit);
+        ring.sim.run_until(next).map_err(RingError::Sim)?;
+        let (phase, progress) = {
+            let m = ring.master.borrow();
+            (m.master.phase(), m.master.progress())
+        };
+        on_cycle(
+            ring,
+            &RunProgress {
+                now: next.since_start(),
+                phase,
+                operating: Duration::from_picos(0),
+                run_for: spec.run_for,
+            },
+        );
+        match progress {
+            Progress::Cyclic => {
+                let at = ring
+                    .master
+                    .borrow()
+                    .timeline
+                    .iter()
+                    .rev()
+                    .find(|(_, _, p)| *p == Progress::Cyclic)
+                    .map_or(next, |(t, _, _)| *t);
+                return Ok(Some(at));
+            }
+            Progress::Halted => return Ok(None),
+            _ => {}
+        }
+    }
+    Ok(None)
+}
+
+/// Name of node `i` (0 the master).
+fn node_name(spec: &RingSpec, i: usize) -> String {
+    match i.checked_sub(1).and_then(|k| spec.drives.get(k)) {
+        Some(d) => format!("drive {}", d.address),
+        None => "master".into(),
+    }
+}
+
+/// Samples power, line status and MST counters of every node.
+fn sample(ring: &mut BuiltRing, spec: &RingSpec, w: &mut Watch) {
+    let now = ring.sim.now();
+    let n = ring.drives.len() + 1;
+    let mut first_dark = None;
+    // Ring order after the master: drive 1 … drive n, then the master's own receiver.
+    for i in (1..n).chain(std::iter::once(0)) {
+        let powered = ring.sim.powered(i);
+        let address = i
+            .checked_sub(1)
+            .and_then(|k| spec.drives.get(k))
+            .map(|d| d.address);
+        if let (Some(drive), Some(was)) = (address, w.powered.get_mut(i))
+            && *was != powered
+        {
+            *was = powered;
+            w.events.push((
+                now,
+                if powered {
+                    RingEventKind::PowerOn { drive }
+                } else {
+                    RingEventKind::PowerOff { drive }
+                },
+            ));
+            if let Some(c) = w.mst_count.get_mut(i) {
+                *c = 0; // a fresh chip counts from 0
+            }
+        }
+        if !powered {
+            continue;
+        }
+        let Some(chip) = ring.sim.chip_mut(i) else {
+            continue;
+        };
+        if first_dark.is_none() && chip.read_register(STATUS_REGISTER) & FIBBR != 0 {
+            first_dark = Some(i);
+        }
+        if let Some(drive) = address {
+            // 410B §4.2 word 10 NMSTERR: error counter MST (counts up, wraps).
+            let count = chip.read_ram(NMSTERR);
+            let prev = w.mst_count.get(i).copied().unwrap_or(0);
+            let delta = u64::from(count.wrapping_sub(prev));
+            if let Some(c) = w.mst_count.get_mut(i) {
+                *c = count;
+            }
+            if let Some(e) = w.mst_errors.get_mut(i) {
+                *e += delta;
+            }
+            let lost = delta > 0;
+            if let Some(was) = w.lost.get_mut(i) {
+                if lost && !*was {
+                    w.events.push((now, RingEventKind::LostMsts { drive }));
+                }
+                *was = lost;
+            }
+        }
+    }
+    if first_dark != w.first_dark {
+        w.first_dark = first_dark;
+        w.events.push((
+            now,
+            match first_dark {
+                Some(i) => RingEventKind::Open {
+                    first_dark: node_name(spec, i),
+                },
+                None => RingEventKind::Closed,
+            },
+        ));
+    }
+}
+
+/// The master's service-channel transcript from a JSON-lines log (its telegrams on fibre 0).
+fn transcript_of(log: &[u8]) -> Vec<TranscriptEntry> {
+    let text = String::from_utf8_lossy(log);
+    let mut b = TranscriptBuilder::new();
+    let mut index = 0u64;
+    for line in text.lines() {
+        let Ok(v) = serde_json::from_str::<serde_json::Value>(line) else {
+            continue;
+        };
+        if v["segment"] != 0 || v["origin"] != "master" || v["fcs"] != "ok" {
+            continue;
+        }
+        let Some(hex) = v["bytes"].as_str() else {
+            continue;
+        };
+        let bytes: Vec<u8> = (0..hex.len() / 2)
+            .filter_map(|i| hex.get(2 * i..2 * i + 2))
+            .filter_map(|h| u8::from_str_radix(h, 16).ok())
+            .collect();
+        b.master_telegram(&bytes, index);
+        index += 1;
+    }
+    b.finish()
+}
+
+fn secs(t: Instant) -> f64 {
+    t.since_start().as_secs_f64()
+}
+
+/// Gathers the report at the end of the run.
+fn gather(
+    ring: &mut BuiltRing,
+    spec: &RingSpec,
+    reached: Option<Instant>,
+    watch: Watch,
+) -> RingReport {
+    let m = ring.master.borrow();
+    let status = m.master.status();
+    let timing = m.master.timing();
+    let telegram_type = m.master.config().telegram_type;
+    let mut events = watch.events;
+    for (t, e) in &m.errors {
+        events.push((
+            *t,
+            RingEventKind::MasterError {
+                text: e.to_string(),
+            },
+        ));
+    }
+    let mut drives = Vec::new();
+    for (k, (d, probe)) in spec.drives.iter().zip(&ring.drives).enumerate() {
+        let p = probe.borrow();
+        // Phase-4 exits and returns, from the drive's own phase history.
+        let mut shutdowns = 0;
+        let mut in4 = false;
+        for (t, phase) in &p.phases {
+            if *phase == 4 && !in4 {
+                if shutdowns > 0 {
+                    events.push((*t, RingEventKind::Operating { drive: d.address }));
+                }
+                in4 = true;
+            } else if *phase != 4 && in4 {
+                in4 = false;
+                shutdowns += 1;
+                events.push((
+                    *t,
+                    RingEventKind::ShutDown {
+                        drive: d.address,
+                        phase: *phase,
+                    },
+                ));
+            }
+        }
+        let ds = status.drives.iter().find(|s| s.address.get() == d.address);
+        let plan = timing.and_then(|t| t.drives.iter().find(|x| x.address == d.address));
+        let axis = p.node.drive().axis();
+        drives.push(DriveReport {
+            address: d.address,
+            position: k + 1,
+            idn_file: d.idn_file.as_ref().map(|f| f.display().to_string()),
+            telegram_type,
+            t1_us: plan.map(|x| x.t1_us()),
+            t2_us: timing.map(|t| t.t2_us()),
+            t3_us: timing.map(|t| t.t3_us),
+            t4_us: timing.map(|t| t.t4_us),
+            ats_received: ds.map_or(0, |s| s.ats_received),
+            ats_missed: ds.map_or(0, |s| s.ats_missed),
+            mdts_missed: p.commands_missing,
+            mst_errors: watch.mst_errors.get(k + 1).copied().unwrap_or(0),
+            shutdowns,
+            phase: p.node.phase().number(),
+            powered: ring.sim.powered(k + 1),
+            commands_applied: p.commands_applied,
+            corrupted_commands: p.corrupted.len() as u64,
+            axis: AxisReport {
+                velocity_rpm: axis.velocity_rpm(),
+                position_deg: axis.position_deg(),
+                command: format!("{:?}", axis.command()),
+                status_word: p.node.drive().status_word().raw(),
+            },
+            problems: p.problems.iter().map(|(_, s)| s.clone()).collect(),
+        });
+    }
+    events.sort_by_key(|(t, _)| *t);
+    RingReport {
+        variant: match spec.variant {
+            Variant::Sercon816 => "SERCON816".into(),
+            Variant::Sercon410b => "SERCON410B".into(),
+        },
+        bit_rate_mbit: spec.bit_rate.mbit(),
+        cycle_us: spec.cycle_us,
+        seed: spec.seed,
+        faults: spec.faults.iter().map(|f| f.text.clone()).collect(),
+        result: if reached.is_some() {
+            RunResult::Phase4
+        } else {
+            RunResult::NotReached
+        },
+        phase4_at_s: reached.map(secs),
+        sim_time_s: secs(ring.sim.now()),
+        final_phase: status.phase,
+        final_progress: format!("{:?}", status.progress),
+        cycles: status.cycles,
+        service_requests: status.service_requests,
+        restarts: status.restarts,
+        ring_delay_us: m.master.ring_delay_us(),
+        timeline: m
+            .timeline
+            .iter()
+            .map(|(t, phase, progress)| MasterEvent {
+                t_s: secs(*t),
+                phase: *phase,
+                progress: format!("{progress:?}"),
+            })
+            .collect(),
+        events: events
+            .into_iter()
+            .map(|(t, kind)| RingEvent { t_s: secs(t), kind })
+            .collect(),
+        drives,
+    }
+}

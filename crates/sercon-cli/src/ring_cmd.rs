@@ -1,0 +1,188 @@
+//! `sercon ring`: runs a full-stack simulated ring (the library's [`sercon_cli::ring`]) and
+//! prints its report; a progress bar on stderr when it is a terminal.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use sercon_cli::ring::{self, FaultSpec, RingSpec, RunResult, parse_duration};
+use sercon_regs::Variant;
+use sercos_wire::time::BitRate;
+
+/// The controller variant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum VariantArg {
+    /// SERCON816.
+    #[value(name = "816")]
+    S816,
+    /// SERCON410B (2 and 4 Mbit/s).
+    #[value(name = "410b")]
+    S410b,
+}
+
+/// Arguments of `sercon ring`.
+#[derive(Debug, Args)]
+pub struct RingArgs {
+    /// A full description of the ring (drives, IDN files, fibre lengths, faults, traces);
+    /// the options below override it.
+    #[arg(long, value_name = "ring.toml")]
+    config: Option<PathBuf>,
+    /// Number of emulated drives (addresses 1…N; at most 8).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    drives: Option<u8>,
+    /// Controller of every node.
+    #[arg(long, value_enum)]
+    variant: Option<VariantArg>,
+    /// Bit rate in Mbit/s: 2, 4, 8 or 16 (8 and 16 on the SERCON816 only).
+    #[arg(long, value_parser = parse_baud)]
+    baud: Option<BitRate>,
+    /// Communication cycle time tScyc in µs (S-0-0002).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(62..=65000))]
+    cycle_us: Option<u32>,
+    /// Seconds of phase-4 operation (e.g. 3, 0.5, or 1500ms).
+    #[arg(long, value_parser = parse_seconds)]
+    seconds: Option<sercos_wire::time::Duration>,
+    /// Seed of every random choice (bit errors).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// A fault, repeatable: break:N@T1..T2, ber:RATE[:N][@T1..T2], power:N@T1..T2,
+    /// burst:N:BITS@T, drift:N:PPM@T, distort:N@T1..T2 (N a drive address or "master";
+    /// times from the first arrival in phase 4).
+    #[arg(long, value_name = "FAULT")]
+    fault: Vec<FaultSpec>,
+    /// Telegram log of every fibre (text; JSON lines if the name ends in .jsonl).
+    #[arg(long, value_name = "FILE")]
+    log: Option<PathBuf>,
+    /// Only this fibre in the log (fibre k runs from node k to node k + 1; 0 = master out).
+    #[arg(long, value_name = "K")]
+    log_segment: Option<usize>,
+    /// Print the report as one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+    /// VCD waveform of every chip's INT0, INT1, CON_CLK and TxD.
+    #[arg(long, value_name = "FILE")]
+    vcd: Option<PathBuf>,
+    /// pcap of one fibre (default: the one into the master, which carries every telegram)
+    /// for Wireshark with contrib/wireshark/sercos2.lua.
+    #[arg(long, value_name = "FILE")]
+    pcap: Option<PathBuf>,
+    /// The fibre of the pcap.
+    #[arg(long, value_name = "K")]
+    pcap_segment: Option<usize>,
+    /// The master's service channel as JSON lines (the schema of `sercon capture transcript
+    /// --json`).
+    #[arg(long, value_name = "FILE")]
+    transcript: Option<PathBuf>,
+}
+
+fn parse_baud(text: &str) -> Result<BitRate, String> {
+    text.parse::<u32>()
+        .ok()
+        .and_then(BitRate::from_mbit)
+        .ok_or_else(|| format!("{text:?} is not 2, 4, 8 or 16 (Mbit/s)"))
+}
+
+fn parse_seconds(text: &str) -> Result<sercos_wire::time::Duration, String> {
+    let with_unit = if text.bytes().all(|b| b.is_ascii_digit() || b == b'.') {
+        format!("{text}s")
+    } else {
+        text.to_string()
+    };
+    parse_duration(&with_unit)
+        .ok_or_else(|| format!("{text:?} is not a time such as 3, 0.5 or 1500ms"))
+}
+
+/// The spec from the config file (if any) with the options applied over it.
+fn spec_of(args: &RingArgs) -> Result<RingSpec> {
+    let mut spec = match &args.config {
+        Some(path) => ring::load_config(path)?,
+        None => RingSpec::default(),
+    };
+    if let Some(n) = args.drives {
+        spec.drives = RingSpec::with_drives(n);
+    }
+    if let Some(v) = args.variant {
+        spec.variant = match v {
+            VariantArg::S816 => Variant::Sercon816,
+            VariantArg::S410b => Variant::Sercon410b,
+        };
+    }
+    if let Some(b) = args.baud {
+        spec.bit_rate = b;
+    }
+    if let Some(c) = args.cycle_us {
+        spec.cycle_us = c;
+    }
+    if let Some(s) = args.seconds {
+        spec.run_for = s;
+    }
+    if let Some(s) = args.seed {
+        spec.seed = s;
+    }
+    spec.faults.extend(args.fault.iter().cloned());
+    let t = &mut spec.traces;
+    for (slot, arg) in [
+        (&mut t.log, &args.log),
+        (&mut t.vcd, &args.vcd),
+        (&mut t.pcap, &args.pcap),
+        (&mut t.transcript, &args.transcript),
+    ] {
+        if arg.is_some() {
+            slot.clone_from(arg);
+        }
+    }
+    if args.log_segment.is_some() {
+        t.log_segment = args.log_segment;
+    }
+    if args.pcap_segment.is_some() {
+        t.pcap_segment = args.pcap_segment;
+    }
+    Ok(spec)
+}
+
+/// Runs `sercon ring`.
+pub fn run(args: RingArgs) -> Result<()> {
+    let spec = spec_of(&args)?;
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let bar = ProgressBar::new(spec.run_for.as_micros().max(1));
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {msg} [{bar:30}] {percent:>3}%")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+        );
+        bar
+    });
+    let started = std::time::Instant::now();
+    let outcome = ring::run(&spec, &mut |p| {
+        if let Some(bar) = &bar {
+            bar.set_position(p.operating.as_micros());
+            bar.set_message(format!(
+                "t = {:.3} s, phase {}",
+                p.now.as_secs_f64(),
+                p.phase
+            ));
+        }
+    })?;
+    let wall = started.elapsed();
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    ring::write_traces(&spec.traces, &outcome).context("traces")?;
+    let report = &outcome.report;
+    if args.json {
+        println!("{}", serde_json::to_string(report)?);
+    } else {
+        print!("{}", report.to_text());
+        println!("wall time: {:.2} s", wall.as_secs_f64());
+    }
+    if report.result != RunResult::Phase4 {
+        bail!(
+            "the ring did not reach phase 4 (master in phase {}, {})",
+            report.final_phase,
+            report.final_progress
+        );
+    }
+    Ok(())
+}
