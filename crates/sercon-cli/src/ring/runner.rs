@@ -277,16 +277,30 @@ fn sample(ring: &mut BuiltRing, spec: &RingSpec, w: &mut Watch) {
         }
     }
     if first_dark != w.first_dark {
-        w.first_dark = first_dark;
-        w.events.push((
-            now,
-            match first_dark {
-                Some(i) => RingEventKind::Open {
-                    first_dark: node_name(spec, i),
-                },
-                None => RingEventKind::Closed,
+        let kind = match first_dark {
+            Some(i) => RingEventKind::Open {
+                first_dark: node_name(spec, i),
             },
-        ));
+            None => RingEventKind::Closed,
+        };
+        // Receivers notice the loss of light at different times (410B §4.1 2H.13 FIBBR
+        // needs a stretch without edges): while the ring stays open, a node earlier in ring
+        // order that goes dark a moment later replaces the first report (docs/spec-notes.md,
+        // "The ring command").
+        let reopen = w.first_dark.is_some() && first_dark.is_some();
+        let last_open = w
+            .events
+            .iter()
+            .rposition(|(_, k)| matches!(k, RingEventKind::Open { .. } | RingEventKind::Closed));
+        match last_open {
+            Some(j) if reopen => {
+                if let Some(e) = w.events.get_mut(j) {
+                    e.1 = kind;
+                }
+            }
+            _ => w.events.push((now, kind)),
+        }
+        w.first_dark = first_dark;
     }
 }
 
