@@ -107,8 +107,18 @@ impl DriveNode {
     }
 
     /// A drive with a full slave configuration (clocks, phase 0–2 cycle, buffering); the
-    /// bit rate is the configuration's.
-    pub fn with_config(config: SlaveConfig, database: IdnDatabase) -> Result<DriveNode, NodeError> {
+    /// bit rate is the configuration's, and P-0-0002 is set to it (S-0-0127 times the MDT
+    /// at the line's rate).
+    pub fn with_config(
+        config: SlaveConfig,
+        mut database: IdnDatabase,
+    ) -> Result<DriveNode, NodeError> {
+        // spec-notes "Driver slave and drive node": the line's rate is a switch on the drive,
+        // P-0-0002 shows it.
+        let _ = database.set_internal(
+            BIT_RATE,
+            &sercos_wire::attribute::Value::Unsigned(u64::from(config.bit_rate.mbit())),
+        );
         let drive = EmulatedDrive::new(database, Instant::ZERO);
         Ok(DriveNode {
             driver: SlaveDriver::new(config, drive)?,

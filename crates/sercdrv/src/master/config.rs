@@ -63,6 +63,12 @@ pub struct MasterConfig {
     pub command_polls: u32,
     /// Words of each service container's buffer (410B §4.2.4 BUFLEN).
     pub service_buffer_words: u16,
+    /// Stay in phase 2 once the phase-2 configuration is written (and S-0-0127 passed)
+    /// instead of going on to phase 3, serving [`Master::submit_service`] requests there
+    /// (for tools that write parameters protected from phase 3 on); `false` by default.
+    ///
+    /// [`Master::submit_service`]: super::Master::submit_service
+    pub hold_in_phase2: bool,
 }
 
 impl MasterConfig {
@@ -101,6 +107,7 @@ impl MasterConfig {
             service_timeout: Duration::from_micros(400 * u64::from(cycle_us.max(1))),
             command_polls: 100,
             service_buffer_words: DEFAULT_SERVICE_BUFFER_WORDS,
+            hold_in_phase2: false,
         }
     }
 

@@ -40,7 +40,7 @@ use sercos_wire::time::Instant;
 
 use crate::ram_layout::{self, PhaseGroup, RamLayout, RamLayoutRequest, Role};
 use crate::service_channel::{
-    CommandStatus, Completion, ContainerSlot, Request, ServiceChannelMaster, Wiring,
+    CommandStatus, Completion, ContainerSlot, Request, ServiceChannelMaster, Ticket, Wiring,
 };
 use crate::timing::{self, CycleTiming, DriveParameters, TimingRequest};
 
@@ -64,6 +64,8 @@ enum State {
     Phase1 { next: usize, checked: u32 },
     Phase2Read,
     Phase2Config,
+    /// Configured, held in phase 2 ([`MasterConfig::hold_in_phase2`]).
+    Phase2Held,
     Phase3 { silent: u32 },
     Phase4 { silent: u32 },
     Halted,
@@ -99,6 +101,10 @@ pub struct Master {
     places: Option<NonCyclicPlaces>,
     sc: Option<ServiceChannelMaster>,
     lanes: Vec<Lane>,
+    /// Requests of tools ([`Master::submit_service`]), one at a time, and their results.
+    tool: Lane,
+    tool_done: Vec<Completion>,
+    tool_tickets: u64,
     timing: Option<CycleTiming>,
     cyclic: Option<CyclicImage>,
     ring_delay_us: u16,
@@ -110,9 +116,10 @@ pub struct Master {
     cycles: u64,
     service_requests: u64,
     restarts: u32,
-    /// INT_FIBBR came since the last cycle end; cycles in a row without receive signal.
+    /// INT_FIBBR came since the last cycle end.
     fibbr_seen: bool,
-    dark_cycles: u32,
+    /// Cycles with INT_FIBBR since the start.
+    dark_total: u64,
 }
 
 impl Master {
@@ -167,6 +174,9 @@ impl Master {
             places: None,
             sc: None,
             lanes: Vec::new(),
+            tool: Lane::default(),
+            tool_done: Vec::new(),
+            tool_tickets: 0,
             timing: None,
             cyclic: None,
             ring_delay_us: 0,
@@ -178,7 +188,7 @@ impl Master {
             service_requests: 0,
             restarts: 0,
             fibbr_seen: false,
-            dark_cycles: 0,
+            dark_total: 0,
         })
     }
 
@@ -201,6 +211,7 @@ impl Master {
             cycles: self.cycles,
             service_requests: self.service_requests,
             restarts: self.restarts,
+            dark_cycles: self.dark_total,
             last_error: self.last_error.clone(),
         }
     }
@@ -213,10 +224,48 @@ impl Master {
             State::Phase1 { .. } => Progress::DetectingDrives,
             State::Phase2Read => Progress::ReadingParameters,
             State::Phase2Config => Progress::Configuring,
+            State::Phase2Held => Progress::HeldInPhase2,
             State::Phase3 { .. } => Progress::CheckingPhase4,
             State::Phase4 { .. } => Progress::Cyclic,
             State::Halted => Progress::Halted,
         }
+    }
+
+    /// Whether tool requests ([`Master::submit_service`]) are carried out now: in cyclic
+    /// operation (phase 4) and when held in phase 2; they wait in every other state.
+    pub fn serves_tools(&self) -> bool {
+        matches!(self.state, State::Phase4 { .. } | State::Phase2Held)
+    }
+
+    /// Queues a service-channel request of a tool (an IDN read or write, e.g. `sercon idn`)
+    /// for `drive`. Requests run one at a time, in order, through the drive's service
+    /// container once [`Master::serves_tools`] (phase 4, or phase 2 when held there); a
+    /// drive's refusal or a timeout does not stop the master, it comes back in the
+    /// completion ([`Master::take_service_completions`]), whose ticket is the one
+    /// returned here. A request still running when the master restarts from phase 0 is
+    /// carried out again once it serves tools again.
+    pub fn submit_service(
+        &mut self,
+        drive: DriveAddress,
+        request: Request,
+    ) -> Result<Ticket, MasterError> {
+        if !self.drives.iter().any(|d| d.status.address == drive) {
+            return Err(self.error(
+                Some(drive),
+                Some(request.idn()),
+                MasterErrorKind::Config("drive not configured"),
+            ));
+        }
+        self.tool_tickets = self.tool_tickets.saturating_add(1);
+        let ticket = Ticket(self.tool_tickets);
+        self.tool.items.push_back(Item::new(drive, request, Purpose::Tool(ticket)));
+        Ok(ticket)
+    }
+
+    /// Tool requests finished since the last call, oldest first, each with the ticket
+    /// [`Master::submit_service`] returned.
+    pub fn take_service_completions(&mut self) -> Vec<Completion> {
+        std::mem::take(&mut self.tool_done)
     }
 
     /// Errors reported since the last call, oldest first.
@@ -304,6 +353,14 @@ impl Master {
             .first()
             .copied()
             .ok_or(CyclicError::NoData(drive))
+    }
+
+    /// Puts a tool request that was running back at the head of its queue (the service
+    /// channel is started afresh).
+    fn requeue_tool(&mut self) {
+        if let Some((_, item)) = self.tool.running.take() {
+            self.tool.items.push_front(item);
+        }
     }
 
     fn report(&mut self, error: MasterError) {
@@ -429,6 +486,7 @@ impl Master {
             d.status.answered = false;
         }
         self.lanes.clear();
+        self.requeue_tool();
         self.cyclic = None;
         self.addressed = None;
         self.previous = None;
@@ -441,16 +499,14 @@ impl Master {
         self.cycles = self.cycles.saturating_add(1);
         // 410B §4.1 4H.1 INT_FIBBR: the receive line lost its edges during this cycle.
         let dark = std::mem::take(&mut self.fibbr_seen);
-        self.dark_cycles = if dark {
-            self.dark_cycles.saturating_add(1)
-        } else {
-            0
-        };
+        if dark {
+            self.dark_total = self.dark_total.saturating_add(1);
+        }
         match self.state.clone() {
             State::Idle | State::Halted => {}
             State::Phase0 { closed } => self.phase0(bus, closed),
             State::Phase1 { next, checked } => self.phase1(bus, next, checked),
-            State::Phase2Read | State::Phase2Config => self.phase2(bus, now),
+            State::Phase2Read | State::Phase2Config | State::Phase2Held => self.phase2(bus, now),
             State::Phase3 { silent } => self.phase3(bus, now, silent),
             State::Phase4 { silent } => self.phase4(bus, now, silent),
         }
@@ -461,7 +517,9 @@ impl Master {
         // back (spec-notes: the ring counts as closed when both say so).
         let fibbr = bus.read_reg::<Ctrl2>().fibbr();
         let delay = bus.read_reg::<Tcycdel>().0;
-        let closed_now = !fibbr && delay > 0 && u32::from(delay) < self.cfg.cycle_us;
+        // TCYCDEL counts whole µs: a short ring at 16 Mbit/s returns the MST in less than
+        // 1 µs and reads 0, so 0 counts as closed when FIBBR says light comes back.
+        let closed_now = !fibbr && u32::from(delay) < self.cfg.cycle_us;
         let closed = if closed_now {
             closed.saturating_add(1)
         } else {
@@ -647,6 +705,16 @@ impl Master {
                 }
             }
         }
+        // Tool requests only once the phase-up is through (phase 4, or held in phase 2).
+        if matches!(self.state, State::Phase4 { .. } | State::Phase2Held)
+            && self.tool.running.is_none()
+        {
+            if let Some(item) = self.tool.items.pop_front() {
+                let ticket = sc.submit(item.drive, item.request.clone());
+                self.tool.running = Some((ticket, item));
+                started = true;
+            }
+        }
         if started {
             // Schedules the new requests into their containers now, not a cycle later.
             let done = sc.poll(bus, now);
@@ -662,6 +730,21 @@ impl Master {
 
     /// Takes one completion; `false` if it stops the phase-up.
     fn complete(&mut self, completion: Completion) -> bool {
+        if let Some((ticket, item)) = self.tool.running.take() {
+            if ticket == completion.ticket {
+                // A tool's request: handed back as it is, never an error of the master.
+                let own = match item.purpose {
+                    Purpose::Tool(own) => own,
+                    _ => ticket,
+                };
+                self.tool_done.push(Completion {
+                    ticket: own,
+                    ..completion
+                });
+                return true;
+            }
+            self.tool.running = Some((ticket, item));
+        }
         let Some(lane) = self.lanes.iter_mut().find(|l| {
             l.running
                 .as_ref()
@@ -747,7 +830,11 @@ impl Master {
                     }
                 }
             }
-            Purpose::Optional | Purpose::Write | Purpose::CommandSet | Purpose::CommandCancel => {}
+            Purpose::Optional
+            | Purpose::Write
+            | Purpose::CommandSet
+            | Purpose::CommandCancel
+            | Purpose::Tool(_) => {}
         }
         true
     }
@@ -759,6 +846,12 @@ impl Master {
         let done = self.lanes.iter().all(Lane::is_done);
         if done {
             match self.state {
+                State::Phase2Held => {}
+                // Asked to stay in phase 2 (MasterConfig::hold_in_phase2): configured and
+                // S-0-0127 passed, but no switch to phase 3.
+                State::Phase2Config if self.cfg.hold_in_phase2 => {
+                    self.state = State::Phase2Held;
+                }
                 State::Phase2Read => {
                     if let Err(error) = self.configure() {
                         self.halt(error);
@@ -778,7 +871,12 @@ impl Master {
                 }
             }
         }
-        let next = self.lanes.first().and_then(Lane::drive).or(self.addressed);
+        let next = self
+            .lanes
+            .first()
+            .and_then(Lane::drive)
+            .or_else(|| self.tool.drive())
+            .or(self.addressed);
         if let Some(next) = next {
             self.address(bus, next);
         }
@@ -986,10 +1084,10 @@ impl Master {
         image.write_commands(bus);
         let silent = if ok == 0 { silent.saturating_add(1) } else { 0 };
         if silent >= self.cfg.mst_loss_cycles.max(1) {
-            // No AT for several cycles: a receive line that kept losing its edges
-            // (INT_FIBBR every one of those cycles, 410B §4.1 4H.1) is a broken ring, else
-            // the MST does not get round (spec-notes).
-            let kind = if self.dark_cycles >= silent {
+            // No AT for several cycles: a receive line without edges now (410B §4.1 2H.13
+            // FIBBR, read directly) is a broken ring, else the MST does not get round
+            // (spec-notes).
+            let kind = if bus.read_reg::<Ctrl2>().fibbr() {
                 MasterErrorKind::RingBroken
             } else {
                 MasterErrorKind::MstLost
@@ -1102,10 +1200,10 @@ impl HostProgram for Master {
                     self.restarts = self.restarts.saturating_add(1);
                 }
                 self.lanes.clear();
+                self.requeue_tool();
                 self.cyclic = None;
                 self.addressed = None;
                 self.previous = None;
-                self.dark_cycles = 0;
                 for d in &mut self.drives {
                     d.status.answered = false;
                 }

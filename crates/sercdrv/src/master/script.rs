@@ -43,6 +43,8 @@ pub(crate) enum Purpose {
     CommandPoll(u32),
     /// The acknowledgement (cancel) of a procedure command.
     CommandCancel,
+    /// A tool's request (`Master::submit_service`) with the ticket the tool was given.
+    Tool(Ticket),
 }
 
 /// One request of the phase-up.

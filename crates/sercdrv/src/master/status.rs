@@ -18,6 +18,10 @@ pub enum Progress {
     /// Phase 2: writing the cycle's timing and telegram layout, running S-0-0099 and
     /// S-0-0127.
     Configuring,
+    /// Phase 2: configured and held there as asked
+    /// ([`MasterConfig::hold_in_phase2`](super::MasterConfig::hold_in_phase2)); tool
+    /// requests are served.
+    HeldInPhase2,
     /// Phase 3: running S-0-0128.
     CheckingPhase4,
     /// Phase 4: cyclic operation.
@@ -55,6 +59,9 @@ pub struct MasterStatus {
     pub service_requests: u64,
     /// Times the master fell back to phase 0.
     pub restarts: u32,
+    /// Cycles in which the receive line lost its edges (INT_FIBBR, 410B §4.1 4H.1); zero on
+    /// an intact ring.
+    pub dark_cycles: u64,
     /// The most recent error.
     pub last_error: Option<MasterError>,
 }

@@ -55,6 +55,16 @@ pub fn standard_drives(n: usize) -> Vec<IdnDatabase> {
 /// Builds the ring for `cfg` with one emulated drive per configured address, each with its
 /// database, the master's segment logged as JSON lines, and `faults`.
 pub fn ring(cfg: MasterConfig, databases: Vec<IdnDatabase>, faults: Vec<Fault>) -> Ring {
+    ring_with(cfg, databases, faults, sercos_sim::Delivery::Fast)
+}
+
+/// [`ring`] with the simulator's `delivery` (fast hops or every bit on every fibre).
+pub fn ring_with(
+    cfg: MasterConfig,
+    databases: Vec<IdnDatabase>,
+    faults: Vec<Fault>,
+    delivery: sercos_sim::Delivery,
+) -> Ring {
     let variant = cfg.variant;
     let cycle = Duration::from_micros(u64::from(cfg.cycle_us));
     let mut nodes = vec![NodeConfig::new("master", chip(variant))];
@@ -84,7 +94,7 @@ pub fn ring(cfg: MasterConfig, databases: Vec<IdnDatabase>, faults: Vec<Fault>) 
         nodes,
         faults,
         seed: 1,
-        delivery: sercos_sim::Delivery::Fast,
+        delivery,
         traces: TraceConfig {
             log: Some(LogFormat::JsonLines),
             log_segment: Some(SegmentId(0)),
