@@ -9,7 +9,7 @@
 
 use std::hint::black_box;
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{Criterion, Throughput, criterion_group};
 use sercon_model::serial_port::LineSegment;
 use sercon_model::{Chip, ChipConfig};
 use sercon_regs::ram::container::ContainerControl;
@@ -163,4 +163,21 @@ fn bench(c: &mut Criterion) {
 }
 
 criterion_group!(benches, bench);
-criterion_main!(benches);
+
+/// `RING_PAIR_PROFILE=<ms>` runs that many simulated milliseconds from the warmed-up state
+/// and exits, without criterion (for `valgrind --tool=callgrind`: a fixed amount of work).
+fn main() {
+    if let Some(ms) = std::env::var("RING_PAIR_PROFILE")
+        .ok()
+        .and_then(|v| v.parse::<u64>().ok())
+    {
+        let mut p = pair();
+        p.run_to(Instant::ZERO + Duration::from_micros(500));
+        let until = p.now + Duration::from_millis(ms);
+        p.run_to(until);
+        black_box(p);
+        return;
+    }
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

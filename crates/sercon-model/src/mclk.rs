@@ -31,7 +31,9 @@ impl MclkClock {
     /// The instant of tick `k` (saturating at the end of representable time).
     pub(crate) fn instant(&self, k: u64) -> Instant {
         let ps = match self.ps_per_tick {
-            Some(p) => u128::from(k) * u128::from(p),
+            // The fast path stays in 64 bits (a 128-bit product and division per call
+            // showed up in the event loop's profile).
+            Some(p) => return Instant::from_picos(k.saturating_mul(p)),
             None => u128::from(k) * PS_PER_S / u128::from(self.hz),
         };
         Instant::from_picos(u64::try_from(ps).unwrap_or(u64::MAX))
@@ -39,17 +41,23 @@ impl MclkClock {
 
     /// The last tick at or before `t`.
     pub(crate) fn tick_at_or_before(&self, t: Instant) -> u64 {
-        let ps = u128::from(t.as_picos());
         let k = match self.ps_per_tick {
-            Some(p) => ps / u128::from(p),
+            // `p` ≥ 1 (hz ≤ 10¹²): a 64-bit division.
+            Some(p) => return t.as_picos() / p.max(1),
             // largest k with floor(k·10¹²/f) <= ps  <=>  k·10¹² < (ps+1)·f
-            None => ((ps + 1) * u128::from(self.hz) - 1) / PS_PER_S,
+            None => {
+                let ps = u128::from(t.as_picos());
+                ((ps + 1) * u128::from(self.hz) - 1) / PS_PER_S
+            }
         };
         u64::try_from(k).unwrap_or(u64::MAX)
     }
 
     /// The first tick at or after `t`.
     pub(crate) fn tick_at_or_after(&self, t: Instant) -> u64 {
+        if let Some(p) = self.ps_per_tick {
+            return t.as_picos().div_ceil(p.max(1));
+        }
         let k = self.tick_at_or_before(t);
         if self.instant(k) >= t {
             k

@@ -29,7 +29,8 @@ impl Chip {
         self.serial.line_input(seg, &mut frames);
         // The telegram processor takes every frame the receiver saw (contract with tp).
         for f in frames {
-            self.tp.on_rx_frame(f);
+            let tick = self.clock.tick_at_or_after(f.start);
+            self.tp.on_rx_frame(tick, f);
         }
         self.settle();
     }

@@ -127,8 +127,9 @@ pub(crate) struct TelegramProcessor {
     pub(crate) block: Option<Block>,
     /// A block starting at the given tick (the end of the MST) with the given number.
     pub(crate) pending_block: Option<(u64, u8)>,
-    /// Frames delivered ahead of time, ordered by start.
-    pub(crate) rx_queue: VecDeque<RxFrame>,
+    /// Frames delivered ahead of time, ordered by start, each with the MCLK tick of its
+    /// start (computed once when queued: the event loop asks for it on every turn).
+    pub(crate) rx_queue: VecDeque<(u64, RxFrame)>,
     pub(crate) rx_now: Option<RxNow>,
     /// End of the telegram being sent (3H.9 FLTMT while `Some`).
     pub(crate) tx_end: Option<u64>,
@@ -245,19 +246,27 @@ impl TelegramProcessor {
 
     /// Queues a frame the receiver saw (contract with `serial_port`): processed at its
     /// start and end.
-    pub(crate) fn on_rx_frame(&mut self, frame: RxFrame) {
+    /// `start_tick` is the first MCLK tick at or after the frame's start.
+    pub(crate) fn on_rx_frame(&mut self, start_tick: u64, frame: RxFrame) {
         // Keep the queue ordered by start; frames normally arrive in order.
-        let idx = self.rx_queue.partition_point(|f| f.start <= frame.start);
-        self.rx_queue.insert(idx, frame);
+        if self
+            .rx_queue
+            .back()
+            .is_none_or(|(_, last)| last.start <= frame.start)
+        {
+            self.rx_queue.push_back((start_tick, frame));
+        } else {
+            let idx = self
+                .rx_queue
+                .partition_point(|(_, f)| f.start <= frame.start);
+            self.rx_queue.insert(idx, (start_tick, frame));
+        }
     }
 }
 
 /// The tick of the first queued frame's start.
 pub(crate) fn first_frame_tick(chip: &Chip) -> Option<u64> {
-    chip.tp
-        .rx_queue
-        .front()
-        .map(|f| chip.clock.tick_at_or_after(f.start))
+    chip.tp.rx_queue.front().map(|(tick, _)| *tick)
 }
 
 /// The next tick at which the telegram processor acts.

@@ -18,7 +18,7 @@ pub(crate) fn is_mst(bytes: &[u8]) -> bool {
 
 /// The first queued frame starts at `tick`.
 pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
-    let Some(frame) = chip.tp.rx_queue.pop_front() else {
+    let Some((_, frame)) = chip.tp.rx_queue.pop_front() else {
         return;
     };
     if chip.tp.rx_now.is_some() {
