@@ -5,8 +5,11 @@
 //! * [`ring`]: a full-stack simulated ring (a `sercdrv` master and emulated drives on
 //!   `sercos-sim`), built from a [`ring::RingSpec`], run with progress callbacks, summed up
 //!   in a [`ring::RingReport`].
+//! * [`full_stack`]: the full-stack scenarios of `sercon bench` (master driver, emulated
+//!   drives, controller models and ring all running), measured in real-time factor.
 //! * [`transcript_json`]: the JSON-lines schema of the master's service-channel transcript,
 //!   shared by `sercon capture transcript --json` and `sercon ring --transcript`.
 
+pub mod full_stack;
 pub mod ring;
 pub mod transcript_json;

@@ -34,7 +34,22 @@ enum Command {
 }
 
 fn main() -> std::process::ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => {
+            // --help, --version: print as clap formats them.
+            let _ = e.print();
+            return std::process::ExitCode::SUCCESS;
+        }
+        Err(e) => {
+            // One clear line: clap's first line (it names the option and the value), without
+            // its usage hint.
+            let text = e.render().to_string();
+            let line = text.lines().next().unwrap_or_default();
+            eprintln!("sercon: {}", line.trim_start_matches("error: "));
+            return std::process::ExitCode::from(2);
+        }
+    };
     let result = match cli.command {
         Command::Bench(args) => bench::run(args),
         Command::Capture(cmd) => capture::run(cmd),
