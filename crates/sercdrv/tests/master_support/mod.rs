@@ -255,3 +255,10 @@ pub fn capture_transcripts() -> Option<Vec<(String, Vec<TranscriptEntry>)>> {
     }
     Some(out)
 }
+
+impl Ring {
+    /// Runs the simulation up to `t`.
+    pub fn run_until(&mut self, t: Instant) {
+        self.sim.run_until(t).expect("the simulation runs");
+    }
+}
