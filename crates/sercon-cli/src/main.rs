@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 
 mod bench;
 mod capture;
+mod idn_cmd;
 mod idn_text;
 mod ring_cmd;
 mod script;
@@ -26,6 +27,10 @@ enum Command {
     /// Decode real SERCOS II line captures.
     #[command(subcommand)]
     Capture(capture::CaptureCommand),
+    /// Read, write, list and describe a drive's IDNs through the service channel of a
+    /// simulated ring (as `soe_read` / `soe_write`).
+    #[command(subcommand)]
+    Idn(idn_cmd::IdnCommand),
     /// Run a simulated ring: a master and emulated drives brought up to phase 4, cyclic
     /// operation with a motion profile, faults, diagnostics and traces.
     Ring(ring_cmd::RingArgs),
@@ -53,6 +58,7 @@ fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Bench(args) => bench::run(args),
         Command::Capture(cmd) => capture::run(cmd),
+        Command::Idn(cmd) => idn_cmd::run(cmd),
         Command::Ring(args) => ring_cmd::run(args),
         Command::Script(args) => script::run(args),
     };
