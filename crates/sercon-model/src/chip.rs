@@ -95,17 +95,18 @@ impl Chip {
                 let engine_tick = self.engine.next_tick().filter(|k| *k <= limit);
                 let tp_tick = crate::telegram_processor::next_tick(self).filter(|k| *k <= limit);
                 // The serial port's changes (exact instants) go before MCLK ticks at or
-                // after them.
-                let serial_tick = self
+                // after them. They do not move the engine's or the processor's next tick,
+                // so all of them before those ticks are applied in one go.
+                let bound = match (engine_tick, tp_tick) {
+                    (Some(e), Some(k)) => e.min(k),
+                    (e, k) => e.or(k).unwrap_or(u64::MAX),
+                };
+                while self
                     .serial_next_event()
                     .filter(|a| *a <= t)
-                    .map(|a| self.clock.tick_at_or_after(a));
-                if serial_tick.is_some_and(|s| engine_tick.is_none_or(|e| s <= e))
-                    && serial_tick.is_some_and(|s| tp_tick.is_none_or(|k| s <= k))
-                {
-                    self.serial_step(t);
-                    continue;
-                }
+                    .is_some_and(|a| self.clock.tick_at_or_after(a) <= bound)
+                    && self.serial_step(t)
+                {}
                 match (engine_tick, tp_tick) {
                     (Some(e), tp) if tp.is_none_or(|k| e <= k) => {
                         let Some(step) = self.engine.step(limit) else {

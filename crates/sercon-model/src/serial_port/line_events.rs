@@ -31,11 +31,20 @@ impl Change {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct LineEvents {
     queue: VecDeque<(Instant, Change)>,
+    /// The RDIST value of the last applied change (the port's RDIST status).
+    rdist_now: bool,
 }
 
 impl LineEvents {
     /// Schedules `change` at `at` (after the changes already scheduled at `at`).
+    /// An RDIST change to the value RDIST already has at `at` is dropped: it would change
+    /// nothing and only wake the chip (one is scheduled for every received segment).
     pub(crate) fn push(&mut self, at: Instant, change: Change) {
+        if let Change::Rdist(v) = change
+            && self.rdist_at_end_if_last(at) == Some(v)
+        {
+            return;
+        }
         let idx = self.queue.partition_point(|(t, _)| *t <= at);
         self.queue.insert(idx, (at, change));
     }
@@ -45,10 +54,25 @@ impl LineEvents {
         self.queue.front().map(|(t, _)| *t)
     }
 
+    /// The RDIST value after every scheduled change, when no RDIST change is scheduled
+    /// after `at` (`None` otherwise).
+    fn rdist_at_end_if_last(&self, at: Instant) -> Option<bool> {
+        for (t, c) in self.queue.iter().rev() {
+            if let Change::Rdist(v) = c {
+                return (*t <= at).then_some(*v);
+            }
+        }
+        Some(self.rdist_now)
+    }
+
     /// Removes and returns the earliest change if it is at or before `t`.
     pub(crate) fn pop_until(&mut self, t: Instant) -> Option<(Instant, Change)> {
         if self.queue.front().is_some_and(|(at, _)| *at <= t) {
-            self.queue.pop_front()
+            let next = self.queue.pop_front();
+            if let Some((_, Change::Rdist(v))) = next {
+                self.rdist_now = v;
+            }
+            next
         } else {
             None
         }

@@ -10,7 +10,7 @@
 use std::collections::VecDeque;
 use std::sync::Arc;
 
-use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity};
+use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity, frame_bit_len};
 use sercos_wire::time::{Duration, Instant};
 
 use super::segment::{FrameHint, LineSegment, LineSignal};
@@ -25,11 +25,25 @@ pub(crate) struct Placed {
     pub(crate) end: Instant,
 }
 
+/// An own telegram queued, encoded when it is released (then the line's level before its
+/// first bit is known, so the bits are produced once, never inverted afterwards).
+#[derive(Debug, Clone)]
+struct Own {
+    start: Instant,
+    bit_time: Duration,
+    /// Send the pre-frame sync word first (1H.8 PRESYNC).
+    presync: bool,
+    /// ADR and data, shared with the segment's [`FrameHint`].
+    telegram: Arc<[u8]>,
+    /// Line bits (sync word, flags, stuffed data and FCS).
+    len: u64,
+}
+
 /// The transmitter's timelines.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Transmitter {
     /// Own telegrams not yet released, by start.
-    own: VecDeque<LineSegment>,
+    own: VecDeque<Own>,
     /// Background segments not yet released, by start.
     background: VecDeque<LineSegment>,
     /// The background segment in effect (the last one whose start has passed).
@@ -59,6 +73,31 @@ fn nrzi_encoder_at(level: bool) -> Encoder {
     Encoder::new(LineConfig::new(Coding::Nrzi, polarity))
 }
 
+impl Own {
+    /// The segment of this telegram on a line at light level `level` before its first bit.
+    fn encode(self, level: bool) -> Option<LineSegment> {
+        let mut enc = nrzi_encoder_at(level);
+        let mut bits = BitVec::with_capacity(usize::try_from(self.len).ok()?);
+        if self.presync {
+            // 410B §4.1 1H.8 PRESYNC: "Pre-frame sync word" before the frame.
+            enc.idle(PRESYNC_BITS, &mut bits).ok()?;
+        }
+        let offset = bits.len();
+        enc.encode(&self.telegram, &mut bits).ok()?;
+        Some(LineSegment {
+            start: self.start,
+            bit_time: self.bit_time,
+            signal: LineSignal::Bits(Arc::new(bits)),
+            level_before: level,
+            hint: Some(FrameHint {
+                telegram: self.telegram,
+                offset,
+            }),
+            distorted: false,
+        })
+    }
+}
+
 impl Transmitter {
     /// Queues an own telegram (ADR and data) at `at`, or right after the own telegram being
     /// sent if that ends later; `None` when the telegram cannot be encoded (empty or longer
@@ -71,28 +110,19 @@ impl Transmitter {
         telegram: &[u8],
     ) -> Option<Placed> {
         let start = at.max(self.busy_until);
-        // The level before the first bit is fixed at release (the segment is inverted if the
-        // line turns out to be at the other level): NRZI decodes an inverted signal the same.
-        let mut enc = nrzi_encoder_at(false);
-        let mut bits = BitVec::new();
-        if presync {
-            // 410B §4.1 1H.8 PRESYNC: "Pre-frame sync word" before the frame.
-            enc.idle(PRESYNC_BITS, &mut bits).ok()?;
+        if telegram.is_empty() || telegram.len() > sercos_wire::line::MAX_TELEGRAM_BYTES {
+            // Not encodable (sercos-wire's `EncodeError`): nothing is sent.
+            return None;
         }
-        let offset = bits.len();
-        enc.encode(telegram, &mut bits).ok()?;
-        let len = bits.len();
+        let sync = if presync { PRESYNC_BITS } else { 0 };
+        let len = sync + frame_bit_len(telegram);
         let end = start.saturating_add(bit_time.saturating_mul(len));
-        self.own.push_back(LineSegment {
+        self.own.push_back(Own {
             start,
             bit_time,
-            signal: LineSignal::Bits(Arc::new(bits)),
-            level_before: false,
-            hint: Some(FrameHint {
-                telegram: Arc::from(telegram),
-                offset,
-            }),
-            distorted: false,
+            presync,
+            telegram: Arc::from(telegram),
+            len,
         });
         self.busy_until = end;
         Some(Placed { start, end })
@@ -128,13 +158,13 @@ impl Transmitter {
     pub(crate) fn release(&mut self, now: Instant) {
         while let Some(t) = self.next_release_at().filter(|t| *t <= now) {
             if self.own.front().is_some_and(|s| s.start == t) {
-                let Some(mut seg) = self.own.pop_front() else {
+                let Some(own) = self.own.pop_front() else {
                     break;
                 };
                 // The NRZI coder continues from the level the line is at.
-                if seg.level_before != self.level_at(t) {
-                    seg = seg.inverted();
-                }
+                let Some(seg) = own.encode(self.level_at(t)) else {
+                    continue;
+                };
                 self.own_until = seg.end().unwrap_or(t);
                 self.resume_at = Some(self.own_until);
                 self.emit(seg);
@@ -159,6 +189,15 @@ impl Transmitter {
                 self.resume_at = None;
                 let rest = self.bg_active.as_ref().and_then(|bg| bg.from_instant(t));
                 if let Some(mut rest) = rest {
+                    if rest.start > t {
+                        // A bits segment resumes at its first bit boundary after `t`: it is
+                        // released when time reaches it, so that the output stays in order of
+                        // start, unless the next background segment replaces it first.
+                        if self.background.front().is_none_or(|b| b.start > rest.start) {
+                            self.background.push_front(rest);
+                        }
+                        continue;
+                    }
                     if !matches!(rest.signal, LineSignal::Bits(_)) {
                         // A steady signal starts afresh from the level the own telegram left.
                         rest.level_before = self.level_at(t);
