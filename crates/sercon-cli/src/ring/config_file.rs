@@ -310,7 +310,7 @@ mod tests {
 
     #[test]
     fn line_column_counts_characters() {
-        assert_eq!(line_column("ab\ncµd", 5), (2, 3));
+        assert_eq!(line_column("ab\ncµd", 6), (2, 3));
         assert_eq!(line_column("x", 99), (1, 2));
     }
 }
