@@ -23,6 +23,21 @@ use sercos_wire::time::BitRate;
 use serde_json::json;
 
 use crate::ring_cmd::VariantArg;
+
+/// Prints a line on stdout; a closed pipe (`sercon idn list | head`) ends the output
+/// quietly instead of panicking as `println!` does.
+macro_rules! say {
+    ($($arg:tt)*) => {
+        print_line(&format!($($arg)*))
+    };
+}
+
+fn print_line(line: &str) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    // A write error (the reader went away) is not the tool's failure: nothing to report.
+    let _ = writeln!(out, "{line}");
+}
 use session::{Session, TargetPhase};
 
 /// `sercon idn …`.
@@ -270,10 +285,7 @@ fn read(a: ReadArgs) -> Result<()> {
         }
         Element::Attribute => {
             let attribute = attribute_of(&mut s, idn)?;
-            (
-                attribute_text(attribute),
-                attribute.to_words().to_vec(),
-            )
+            (attribute_text(attribute), attribute.to_words().to_vec())
         }
         _ => {
             let attribute = attribute_of(&mut s, idn)?;
@@ -297,9 +309,9 @@ fn read(a: ReadArgs) -> Result<()> {
             "value": shown_value,
             "words": words,
         });
-        println!("{out}");
+        say!("{out}");
     } else {
-        println!("{idn} {name}{what} = {shown_value}");
+        say!("{idn} {name}{what} = {shown_value}");
     }
     Ok(())
 }
@@ -325,9 +337,9 @@ fn write(a: WriteArgs) -> Result<()> {
             "written": value,
             "words": words,
         });
-        println!("{out}");
+        say!("{out}");
     } else {
-        println!("{idn} {name} := {value}");
+        say!("{idn} {name} := {value}");
     }
     Ok(())
 }
@@ -338,9 +350,10 @@ const IDN_LIST_OF_ALL: Idn = Idn::from_raw(17);
 fn list(a: ListArgs) -> Result<()> {
     let mut s = open(&a.ring)?;
     let r = ask(&mut s, Request::read_value(IDN_LIST_OF_ALL))?;
-    let attribute = r
-        .attribute
-        .unwrap_or(Attribute::new(DataLength::VariableWords, DisplayFormat::Idn));
+    let attribute = r.attribute.unwrap_or(Attribute::new(
+        DataLength::VariableWords,
+        DisplayFormat::Idn,
+    ));
     let idns = match attribute.decode(&r.words) {
         Ok(Value::IdnList(list)) => list,
         Ok(_) => bail!("drive {}: S-0-0017 is not a list of IDNs", a.ring.drive),
@@ -361,10 +374,10 @@ fn list(a: ListArgs) -> Result<()> {
             .map(|(idn, name)| json!({"idn": idn.to_string(), "name": name}))
             .collect();
         let out = json!({"drive": a.ring.drive, "phase": s.phase(), "idns": list});
-        println!("{out}");
+        say!("{out}");
     } else {
         for (idn, name) in rows {
-            println!("{idn} {name}");
+            say!("{idn} {name}");
         }
     }
     Ok(())
@@ -475,19 +488,25 @@ fn info(a: InfoArgs) -> Result<()> {
             "max": max,
             "value": value,
         });
-        println!("{out}");
+        say!("{out}");
         return Ok(());
     }
     let or_none = |v: Option<String>, why: Option<String>| {
         v.unwrap_or_else(|| format!("none ({})", why.unwrap_or_default()))
     };
-    println!("{idn} {name}");
-    println!("  attribute          {:08X}H", attribute.raw());
-    println!("  length             {}", length_text(attribute.data_length()));
-    println!("  format             {}", format_text(attribute.display_format()));
-    println!("  decimal places     {}", attribute.decimal_places());
-    println!("  conversion factor  {}", attribute.conversion_factor());
-    println!(
+    say!("{idn} {name}");
+    say!("  attribute          {:08X}H", attribute.raw());
+    say!(
+        "  length             {}",
+        length_text(attribute.data_length())
+    );
+    say!(
+        "  format             {}",
+        format_text(attribute.display_format())
+    );
+    say!("  decimal places     {}", attribute.decimal_places());
+    say!("  conversion factor  {}", attribute.conversion_factor());
+    say!(
         "  procedure command  {}",
         if attribute.is_procedure_command() {
             "yes"
@@ -495,10 +514,10 @@ fn info(a: InfoArgs) -> Result<()> {
             "no"
         }
     );
-    println!("  write protection   {}", protection_text(attribute));
-    println!("  unit               {unit}");
-    println!("  minimum            {}", or_none(min, min_why));
-    println!("  maximum            {}", or_none(max, max_why));
-    println!("  value              {value}");
+    say!("  write protection   {}", protection_text(attribute));
+    say!("  unit               {unit}");
+    say!("  minimum            {}", or_none(min, min_why));
+    say!("  maximum            {}", or_none(max, max_why));
+    say!("  value              {value}");
     Ok(())
 }

@@ -231,6 +231,13 @@ impl Master {
         }
     }
 
+    /// Sets [`MasterConfig::hold_in_phase2`]: whether the master stays in phase 2 once it
+    /// has configured the drives. Takes effect at the end of the next phase-2
+    /// configuration (set it before the start).
+    pub fn set_hold_in_phase2(&mut self, hold: bool) {
+        self.cfg.hold_in_phase2 = hold;
+    }
+
     /// Whether tool requests ([`Master::submit_service`]) are carried out now: in cyclic
     /// operation (phase 4) and when held in phase 2; they wait in every other state.
     pub fn serves_tools(&self) -> bool {

@@ -54,7 +54,11 @@ impl Session {
         loop {
             let (serves, progress, status) = {
                 let m = ring.master.borrow();
-                (m.master.serves_tools(), m.master.progress(), m.master.status())
+                (
+                    m.master.serves_tools(),
+                    m.master.progress(),
+                    m.master.status(),
+                )
             };
             if serves {
                 break;
@@ -115,7 +119,12 @@ impl Session {
                 .sim
                 .run_until(next)
                 .map_err(|e| anyhow!("simulation: {e}"))?;
-            let done = self.ring.master.borrow_mut().master.take_service_completions();
+            let done = self
+                .ring
+                .master
+                .borrow_mut()
+                .master
+                .take_service_completions();
             if let Some(c) = done.into_iter().find(|c| c.ticket == ticket) {
                 return Ok(c.result);
             }

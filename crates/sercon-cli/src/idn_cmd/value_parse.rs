@@ -90,18 +90,16 @@ pub fn parse_value(attribute: Attribute, text: &str) -> Result<Value, ValueParse
         (DisplayFormat::SignedDecimal, _) => items
             .iter()
             .map(|item| {
-                scaled_integer(attribute, item).and_then(|v| {
-                    i64::try_from(v).map_err(|_| out_of_range(item))
-                })
+                scaled_integer(attribute, item)
+                    .and_then(|v| i64::try_from(v).map_err(|_| out_of_range(item)))
             })
             .collect::<Result<Vec<_>, _>>()
             .map(Value::SignedList),
         _ => items
             .iter()
             .map(|item| {
-                scaled_integer(attribute, item).and_then(|v| {
-                    u64::try_from(v).map_err(|_| out_of_range(item))
-                })
+                scaled_integer(attribute, item)
+                    .and_then(|v| u64::try_from(v).map_err(|_| out_of_range(item)))
             })
             .collect::<Result<Vec<_>, _>>()
             .map(Value::UnsignedList),
@@ -275,7 +273,11 @@ fn raw_bits(text: &str) -> Option<Option<i128>> {
     if digits.is_empty() || digits.len() > 32 {
         return Some(None);
     }
-    Some(u128::from_str_radix(digits, radix).ok().and_then(|v| i128::try_from(v).ok()))
+    Some(
+        u128::from_str_radix(digits, radix)
+            .ok()
+            .and_then(|v| i128::try_from(v).ok()),
+    )
 }
 
 #[cfg(test)]
