@@ -21,7 +21,11 @@ fn drive(a: u8) -> Option<DriveAddress> {
 }
 
 fn halted_with(ring: &mut Ring, max_cycles: u64) -> MasterError {
-    assert_eq!(ring.run_to_phase(4, max_cycles), None, "must not reach phase 4");
+    assert_eq!(
+        ring.run_to_phase(4, max_cycles),
+        None,
+        "must not reach phase 4"
+    );
     let status = ring.master.borrow().status();
     assert_eq!(status.progress, Progress::Halted, "{status:#?}");
     status.last_error.expect("an error")
@@ -45,12 +49,13 @@ fn a_drive_that_refuses_a_value() {
     assert_eq!(error.idn, Some(Idn::from_raw(2)));
     assert_eq!(
         error.kind,
-        MasterErrorKind::ServiceChannel(ErrorKind::Drive(
-            ServiceError::OperationDataAboveMaximum
-        ))
+        MasterErrorKind::ServiceChannel(ErrorKind::Drive(ServiceError::OperationDataAboveMaximum))
     );
     let text = error.to_string();
-    assert!(text.contains("drive 2") && text.contains("S-0-0002"), "{text}");
+    assert!(
+        text.contains("drive 2") && text.contains("S-0-0002"),
+        "{text}"
+    );
 }
 
 // Phase 1: a configured drive that never answers is reported missing (spec-notes "Driver
@@ -96,7 +101,10 @@ fn a_procedure_command_that_fails() {
     assert_eq!(error.phase, 2);
     assert_eq!(error.idn, Some(Idn::from_raw(127)));
     // Bits 0, 1 and 3: set, enabled, error (spec-notes, emulated drive).
-    assert_eq!(error.kind, MasterErrorKind::ProcedureFailed { status: 0x000B });
+    assert_eq!(
+        error.kind,
+        MasterErrorKind::ProcedureFailed { status: 0x000B }
+    );
 }
 
 /// Runs the capture ring to phase 4, applies `fault` from a moment in phase 4 for `outage`,

@@ -45,7 +45,11 @@ fn phase_up_and_exchange(cfg: MasterConfig, n: usize) -> u64 {
     assert_eq!(m.progress(), Progress::Cyclic, "{label}: {:#?}", m.status());
     // AT status word bits 15-14 = 11: ready to operate (the drive follows the command).
     let status_word = m.status_word(last).expect("an AT of the last drive");
-    assert_eq!(status_word >> 14, 0b11, "{label}: status {status_word:#06X}");
+    assert_eq!(
+        status_word >> 14,
+        0b11,
+        "{label}: status {status_word:#06X}"
+    );
     // S-0-0051 position feedback moves with the velocity command.
     let position = m
         .feedback(last, Idn::from_raw(51))
@@ -78,4 +82,12 @@ fn eight_drives_at_16_mbit_and_250_us() {
 fn the_410b_at_4_mbit() {
     let cfg = MasterConfig::new(Variant::Sercon410b, rate(4), 1000, drives(4));
     phase_up_and_exchange(cfg, 4);
+}
+
+// More drives than the eight service containers (410B §4.2 SCPT0-7): the containers are
+// routed to one drive at a time (spec-notes "Driver master"); every drive reaches phase 4.
+#[test]
+fn twelve_drives_share_the_eight_service_containers() {
+    let cfg = MasterConfig::new(Variant::Sercon816, rate(16), 500, drives(12));
+    phase_up_and_exchange(cfg, 12);
 }

@@ -63,7 +63,9 @@ fn transcript_lines_have_the_cli_schema() {
     assert!(!lines.is_empty());
     for l in &lines {
         let v: serde_json::Value = serde_json::from_str(l).expect("a JSON line");
-        for key in ["phase", "drive", "op", "idn", "element", "steps", "complete", "telegram"] {
+        for key in [
+            "phase", "drive", "op", "idn", "element", "steps", "complete", "telegram",
+        ] {
             assert!(v.get(key).is_some(), "{key} missing in {l}");
         }
     }

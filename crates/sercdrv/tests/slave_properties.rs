@@ -69,7 +69,7 @@ proptest! {
         let mut now = Instant::ZERO;
         slave.wake(&mut bus, now, Wake::Start);
         for _ in 0..wakes {
-            now = now + Duration::from_micros(250);
+            now += Duration::from_micros(250);
             slave.wake(&mut bus, now, Wake::Interrupt { int0: true, int1: false });
         }
         prop_assert!(slave.phase().number() <= 4);
@@ -100,7 +100,7 @@ proptest! {
         slave.wake(&mut bus, now, Wake::Start);
         prop_assert!(slave.failure().is_none());
         for _ in 0..wakes {
-            now = now + Duration::from_micros(250);
+            now += Duration::from_micros(250);
             slave.wake(&mut bus, now, Wake::Interrupt { int0: true, int1: false });
         }
         // Without S-0-0127 executed the slave never reaches phase 3 or 4.

@@ -22,6 +22,7 @@ mod chip_init;
 mod config;
 mod cyclic;
 mod error;
+mod routing;
 mod script;
 mod status;
 
@@ -46,10 +47,13 @@ use crate::timing::{self, CycleTiming, DriveParameters, TimingRequest};
 
 use chip_init::{init_chip, select_block, set_phase, start_cycles};
 use cyclic::{CyclicImage, DriveCyclic};
+use routing::{CONTAINERS, MasterRouter};
 use script::{Item, Lane, Purpose, TimingValue};
 
-/// Most drives the master serves: one service container each (410B §4.2: SCPT0-7).
-pub const MAX_DRIVES: usize = 8;
+/// Most drives the master serves: the addresses 1-254 (sercos-telegrams.md, ADR). Up to
+/// eight drives have a service container each (410B §4.2: SCPT0-7); with more, the eight
+/// are shared, routed to a drive before each transfer (spec-notes "Driver master").
+pub const MAX_DRIVES: usize = 254;
 
 /// S-0-0099, reset class 1 diagnostic (sercos-facts.md, "Timing parameters" table).
 const RESET_CLASS_1: Idn = Idn::from_raw(99);
@@ -60,14 +64,23 @@ const SLAVE_ARRANGEMENT: Idn = Idn::from_raw(96);
 #[derive(Debug, Clone)]
 enum State {
     Idle,
-    Phase0 { closed: u32 },
-    Phase1 { next: usize, checked: u32 },
+    Phase0 {
+        closed: u32,
+    },
+    Phase1 {
+        next: usize,
+        checked: u32,
+    },
     Phase2Read,
     Phase2Config,
     /// Configured, held in phase 2 ([`MasterConfig::hold_in_phase2`]).
     Phase2Held,
-    Phase3 { silent: u32 },
-    Phase4 { silent: u32 },
+    Phase3 {
+        silent: u32,
+    },
+    Phase4 {
+        silent: u32,
+    },
     Halted,
 }
 
@@ -99,7 +112,7 @@ pub struct Master {
     drives: Vec<DriveInfo>,
     layout: Option<RamLayout>,
     places: Option<NonCyclicPlaces>,
-    sc: Option<ServiceChannelMaster>,
+    sc: Option<ServiceChannelMaster<MasterRouter>>,
     lanes: Vec<Lane>,
     /// Requests of tools ([`Master::submit_service`]), one at a time, and their results.
     tool: Lane,
@@ -130,7 +143,7 @@ impl Master {
             return bad("no drives");
         }
         if cfg.drives.len() > MAX_DRIVES {
-            return bad("more than eight drives (one service container each)");
+            return bad("more than 254 drives (addresses 1-254)");
         }
         if cfg.telegram_type != TELEGRAM_TYPE_CONFIGURED {
             return bad("only telegram type 7 (S-0-0016/S-0-0024) is supported");
@@ -159,7 +172,7 @@ impl Master {
                     ats_received: 0,
                     ats_missed: 0,
                 },
-                nsv: i as u8,
+                nsv: (i % CONTAINERS) as u8,
                 params: default_params(address.get()),
                 at_words: vec![None; cfg.at_list.len()],
                 mdt_words: vec![None; cfg.mdt_list.len()],
@@ -265,7 +278,9 @@ impl Master {
         }
         self.tool_tickets = self.tool_tickets.saturating_add(1);
         let ticket = Ticket(self.tool_tickets);
-        self.tool.items.push_back(Item::new(drive, request, Purpose::Tool(ticket)));
+        self.tool
+            .items
+            .push_back(Item::new(drive, request, Purpose::Tool(ticket)));
         Ok(ticket)
     }
 
@@ -444,11 +459,27 @@ impl Master {
         .map_err(|e| self.error(None, None, MasterErrorKind::Timing(e)))
     }
 
-    fn service_channel(&self, layout: &RamLayout) -> Result<ServiceChannelMaster, MasterError> {
+    /// Whether the drives share the service containers (more drives than containers).
+    fn shared_containers(&self) -> bool {
+        self.drives.len() > CONTAINERS
+    }
+
+    fn service_channel(
+        &self,
+        layout: &RamLayout,
+    ) -> Result<ServiceChannelMaster<MasterRouter>, MasterError> {
+        let shared = self.shared_containers();
         let mut containers = Vec::new();
         for place in &layout.map.service_containers {
             let Some(drive) = place.drive.and_then(DriveAddress::new) else {
                 continue;
+            };
+            // Up to eight drives: one container each for good; more: any container for
+            // any drive, routed before each transfer (410B §4.2.2 NSV).
+            let wiring = if shared {
+                Wiring::Any
+            } else {
+                Wiring::Drive(drive)
             };
             let slot = ContainerSlot::new(
                 self.cfg.variant,
@@ -463,9 +494,9 @@ impl Master {
                     MasterErrorKind::Config("service container"),
                 )
             })?;
-            containers.push((slot, Wiring::Drive(drive)));
+            containers.push((slot, wiring));
         }
-        let mut sc = ServiceChannelMaster::new(containers);
+        let mut sc = ServiceChannelMaster::with_router(containers, MasterRouter::default());
         sc.set_timeout(Some(self.cfg.service_timeout));
         Ok(sc)
     }
@@ -569,9 +600,17 @@ impl Master {
         let Some(places) = self.places else {
             return;
         };
+        let router = self.sc.as_mut().map(|sc| &*sc.router_mut());
         let nsv_of = |d: Option<DriveAddress>| {
-            d.and_then(|a| self.drives.iter().find(|x| x.status.address == a))
-                .map(|x| x.nsv)
+            let d = d?;
+            // Shared containers: the one routed to the drive; a drive without one (phase
+            // 1) gets its index's container, which is idle then.
+            router.and_then(|r| r.nsv_of(d)).or_else(|| {
+                self.drives
+                    .iter()
+                    .find(|x| x.status.address == d)
+                    .map(|x| x.nsv)
+            })
         };
         // Phases 1-2 carry one record each way; the driver points the containers at the
         // service container of the drive concerned (spec-notes "Driver timing and RAM
@@ -998,6 +1037,21 @@ impl Master {
         }
         bus.write_ram(COMPT1, block1);
         self.cyclic = Some(self.cyclic_image(&full)?);
+        if self.shared_containers() {
+            // 410B §4.2.2: the routes in effect go into the new data containers.
+            let places: Vec<_> = self
+                .drives
+                .iter()
+                .filter_map(|d| {
+                    let a = d.status.address;
+                    let ram = full.map.drive(a.get())?;
+                    Some((a, ram.command.control, ram.feedback.control))
+                })
+                .collect();
+            if let Some(sc) = self.sc.as_mut() {
+                sc.router_mut().set_cyclic(bus, places);
+            }
+        }
         if let Some(image) = self.cyclic.as_ref() {
             image.write_commands(bus);
             if image.buffering == Buffering::Double {
@@ -1013,7 +1067,12 @@ impl Master {
             .iter()
             // As the captures' master: S-0-0128 set, polled and acknowledged on every drive
             // at once, all in phase 3.
-            .map(|d| Lane::new(Item::command(d.status.address, Idn::PHASE_4_TRANSITION_CHECK)))
+            .map(|d| {
+                Lane::new(Item::command(
+                    d.status.address,
+                    Idn::PHASE_4_TRANSITION_CHECK,
+                ))
+            })
             .collect();
         self.state = State::Phase3 { silent: 0 };
         Ok(())

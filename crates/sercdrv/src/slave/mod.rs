@@ -36,8 +36,8 @@ pub use error::SlaveError;
 pub use events::{PhaseRefusal, SlaveDriverEvent};
 pub use parameters::{
     AT_START, CYCLE_TIME, MDT_LENGTH, MDT_POSITION, MDT_START, PHASE_3_CHECK, PHASE_4_CHECK,
-    checked_by, command_executed, command_status, cyclic_timing, noncyclic_plan,
-    noncyclic_timing, read_number,
+    checked_by, command_executed, command_status, cyclic_timing, noncyclic_plan, noncyclic_timing,
+    read_number,
 };
 
 use sercon_regs::host::{HostProgram, Wake};
