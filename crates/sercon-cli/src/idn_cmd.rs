@@ -328,6 +328,10 @@ fn write(a: WriteArgs) -> Result<()> {
     // channel errors"), e.g. 7007H operation data above maximum.
     ask(&mut s, Request::write_value(idn, words.clone()))?;
     let value = shown(attribute, &unit, &words);
+    // Read back what the drive now holds: a command value in the cyclic MDT is overwritten
+    // by the master's next telegram (sercos-telegrams.md, MDT), which the reader should see.
+    let back = ask(&mut s, Request::read(idn, Element::OperationData))?;
+    let read_back = shown(attribute, &unit, &back.words);
     if a.ring.json {
         let out = json!({
             "drive": a.ring.drive,
@@ -336,10 +340,14 @@ fn write(a: WriteArgs) -> Result<()> {
             "name": name,
             "written": value,
             "words": words,
+            "read_back": read_back,
         });
         say!("{out}");
-    } else {
+    } else if read_back == value {
+        // Compared as shown: the maximum-length word of variable data is the drive's own.
         say!("{idn} {name} := {value}");
+    } else {
+        say!("{idn} {name} := {value} (the drive now reads {read_back})");
     }
     Ok(())
 }
@@ -515,7 +523,10 @@ fn info(a: InfoArgs) -> Result<()> {
         }
     );
     say!("  write protection   {}", protection_text(attribute));
-    say!("  unit               {unit}");
+    say!(
+        "  unit               {}",
+        if unit.is_empty() { "(none)" } else { &unit }
+    );
     say!("  minimum            {}", or_none(min, min_why));
     say!("  maximum            {}", or_none(max, max_why));
     say!("  value              {value}");
