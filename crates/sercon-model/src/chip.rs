@@ -30,6 +30,12 @@ pub struct Chip {
     pub(crate) tp: crate::telegram_processor::TelegramProcessor,
     /// The serial port: transmitter, receiver, repeater (410B §1, §2).
     pub(crate) serial: crate::serial_port::SerialPort,
+    /// The next instant at which the timing control, the watchdog, the telegram processor
+    /// or the serial port has something to do, as [`Chip::advance_to`] left it (`Some`);
+    /// `None` once anything from outside (a bus access, a line input, a pin, a DMA cycle)
+    /// may have changed that. Lets an advance with nothing due, and
+    /// [`Chip::next_event_at`], skip recomputing every component's next tick.
+    pub(crate) next_internal: Option<Option<Instant>>,
 }
 
 impl Chip {
@@ -62,6 +68,7 @@ impl Chip {
             cyc_clk: false,
             tp: Default::default(),
             serial,
+            next_internal: None,
         }
     }
 
@@ -88,6 +95,14 @@ impl Chip {
             return;
         }
         if !self.in_reset {
+            if let Some(next) = self.next_internal {
+                debug_assert_eq!(next, self.compute_next_internal(), "stale next_internal");
+                if next.is_none_or(|n| n > t) {
+                    // Nothing due up to `t`.
+                    self.now = t;
+                    return;
+                }
+            }
             let limit = self.clock.tick_at_or_before(t);
             loop {
                 // The timing control goes first at equal ticks: a cycle start sends the
@@ -130,8 +145,34 @@ impl Chip {
                     _ => break,
                 }
             }
+            self.next_internal = Some(self.compute_next_internal());
         }
         self.now = t;
+    }
+
+    /// The next instant at which the engine, the telegram processor or the serial port
+    /// has something to do (what [`Chip::advance_to`] would process).
+    fn compute_next_internal(&self) -> Option<Instant> {
+        let tick = match (
+            self.engine.next_tick(),
+            crate::telegram_processor::next_tick(self),
+        ) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        match (
+            tick.map(|k| self.clock.instant(k)),
+            self.serial_next_event(),
+        ) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// Something from outside changed the state: the cached next internal instant is
+    /// recomputed at the next advance.
+    pub(crate) fn touched(&mut self) {
+        self.next_internal = None;
     }
 
     /// The next instant after [`Chip::now`] at which something observable happens: a
@@ -161,21 +202,14 @@ impl Chip {
         if self.in_reset {
             return output;
         }
-        let tick = match (
-            self.engine.next_tick(),
-            crate::telegram_processor::next_tick(self),
-        ) {
+        let internal = match self.next_internal {
+            Some(cached) => cached,
+            None => self.compute_next_internal(),
+        };
+        match (internal, output) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
-        };
-        [
-            tick.map(|k| self.clock.instant(k)),
-            self.serial_next_event(),
-            output,
-        ]
-        .into_iter()
-        .flatten()
-        .min()
+        }
     }
 
     /// Chooses which pins produce [`PinEvent`]s from now on.
@@ -263,6 +297,7 @@ impl Chip {
     /// After the state changed at `now`: emits the resulting pin changes at `now` and
     /// processes anything now due at or before `now`.
     pub(crate) fn settle(&mut self) {
+        self.touched();
         let changed = self.engine.update_levels();
         if changed != 0 {
             self.emit(changed, self.now);
@@ -278,6 +313,7 @@ impl Chip {
         if level == self.cyc_clk {
             return;
         }
+        self.touched();
         self.cyc_clk = level;
         if self.in_reset {
             return;
@@ -294,16 +330,19 @@ impl Chip {
     /// Sets the level of the reset input RSTN at [`Chip::now`]: low holds the chip in
     /// reset, the rising edge releases it.
     pub fn set_rstn(&mut self, level: bool) {
+        self.touched();
         crate::reset::set_rstn(self, level);
     }
 }
 
 impl SerconBus for Chip {
     fn read_register(&mut self, address: u8) -> u16 {
+        self.touched();
         crate::register_access::read(self, address)
     }
 
     fn write_register(&mut self, address: u8, value: u16) {
+        self.touched();
         crate::register_access::write(self, address, value);
     }
 

@@ -25,6 +25,7 @@ impl Chip {
     /// and their interrupts follow when the chip's time reaches them. With the repeater on
     /// (1H.3 REPON) the segment is forwarded to the output.
     pub fn line_input(&mut self, seg: LineSegment) {
+        self.touched();
         let mut frames = Vec::new();
         self.serial.line_input(seg, &mut frames);
         // The telegram processor takes every frame the receiver saw (contract with tp).
@@ -61,6 +62,7 @@ impl Chip {
     /// empty or too long telegram).
     pub fn transmit_telegram(&mut self, at: Instant, telegram: &[u8]) -> Option<Instant> {
         let at = at.max(self.now);
+        self.touched();
         let end = self.serial.transmit(at, telegram);
         self.settle_serial();
         end
@@ -69,6 +71,7 @@ impl Chip {
     /// Re-reads 1H and 2H into the serial port at [`Chip::now`] (after a register write or
     /// a reset).
     pub(crate) fn serial_registers_changed(&mut self) {
+        self.touched();
         let lerrn = self.serial.lerrn();
         let regs = (
             self.engine.regs.stored(Register::Ctrl1),

@@ -8,6 +8,7 @@ impl Chip {
     /// and the chip select signals"); 0 when the FIFO is empty.
     #[doc(alias = "DMAACKRN")]
     pub fn dma_read_receive(&mut self) -> u16 {
+        self.touched();
         let before = self.tp.fifo.state();
         let w = self.tp.fifo.read();
         self.dma_accessed(before);
@@ -19,6 +20,7 @@ impl Chip {
     /// (410B §2 pin 41, ERRATA "DMAACKTN"); ignored while DMAREQT is inactive.
     #[doc(alias = "DMAACKTN")]
     pub fn dma_write_transmit(&mut self, value: u16) {
+        self.touched();
         if !self.in_reset {
             let before = self.tp.fifo.state();
             self.tp.fifo.write(value);
