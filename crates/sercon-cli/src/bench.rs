@@ -52,10 +52,10 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let full: Vec<_> = if args.stack == Stack::Ring {
         Vec::new()
     } else {
-        full_stack::all()
-            .into_iter()
-            .filter(|s| wanted(&s.name))
-            .collect()
+        match &args.scenario {
+            Some(name) => full_stack::by_name(name).into_iter().collect(),
+            None => full_stack::all(),
+        }
     };
     if ring.is_empty() && full.is_empty() {
         bail!(
@@ -83,9 +83,26 @@ pub fn run(args: BenchArgs) -> Result<()> {
             );
         }
     }
+    let mut failed = Vec::new();
     for s in full {
         let sim = Duration::from_millis(args.sim_ms);
-        let r = full_stack::run(&s, sim).with_context(|| format!("scenario {}", s.name))?;
+        let r = match full_stack::run(&s, sim) {
+            Ok(r) => r,
+            Err(e) => {
+                // The other scenarios still run; the exit status says one failed.
+                if args.json {
+                    let error = serde_json::Value::String(e.to_string());
+                    println!(
+                        "{{\"scenario\":\"{}\",\"stack\":\"full\",\"slaves\":{},\"error\":{error}}}",
+                        s.name, s.drives
+                    );
+                } else {
+                    println!("{:<9} {:>3} drives: failed: {e}", s.name, s.drives);
+                }
+                failed.push(s.name);
+                continue;
+            }
+        };
         if args.json {
             println!("{}", r.to_json());
         } else {
@@ -107,6 +124,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 rss
             );
         }
+    }
+    if !failed.is_empty() {
+        bail!("scenarios failed: {}", failed.join(", "));
     }
     Ok(())
 }
