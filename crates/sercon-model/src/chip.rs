@@ -36,6 +36,8 @@ pub struct Chip {
     /// may have changed that. Lets an advance with nothing due, and
     /// [`Chip::next_event_at`], skip recomputing every component's next tick.
     pub(crate) next_internal: Option<Option<Instant>>,
+    /// Frames of one line input on their way to the telegram processor (reused).
+    pub(crate) rx_scratch: Vec<crate::serial_port::RxFrame>,
 }
 
 impl Chip {
@@ -69,6 +71,7 @@ impl Chip {
             tp: Default::default(),
             serial,
             next_internal: None,
+            rx_scratch: Vec::new(),
         }
     }
 
@@ -104,11 +107,13 @@ impl Chip {
                 }
             }
             let limit = self.clock.tick_at_or_before(t);
-            loop {
+            let next_ticks = loop {
                 // The timing control goes first at equal ticks: a cycle start sends the
                 // MST before the telegram processor's events of that tick.
-                let engine_tick = self.engine.next_tick().filter(|k| *k <= limit);
-                let tp_tick = crate::telegram_processor::next_tick(self).filter(|k| *k <= limit);
+                let engine_next = self.engine.next_tick();
+                let tp_next = crate::telegram_processor::next_tick(self);
+                let engine_tick = engine_next.filter(|k| *k <= limit);
+                let tp_tick = tp_next.filter(|k| *k <= limit);
                 // The serial port's changes (exact instants) go before MCLK ticks at or
                 // after them. They do not move the engine's or the processor's next tick,
                 // so all of them before those ticks are applied in one go.
@@ -124,9 +129,7 @@ impl Chip {
                 {}
                 match (engine_tick, tp_tick) {
                     (Some(e), tp) if tp.is_none_or(|k| e <= k) => {
-                        let Some(step) = self.engine.step(limit) else {
-                            break;
-                        };
+                        let step = self.engine.step_tick(e);
                         let at = self.clock.instant(step.tick);
                         if step.changed != 0 {
                             self.emit(step.changed, at);
@@ -142,10 +145,23 @@ impl Chip {
                         self.dma_changed(fifo, k);
                         self.settle_tick(k);
                     }
-                    _ => break,
+                    // Nothing changed since both were computed.
+                    _ => break (engine_next, tp_next),
                 }
-            }
-            self.next_internal = Some(self.compute_next_internal());
+            };
+            let tick = match next_ticks {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
+            let next = match (
+                tick.map(|k| self.clock.instant(k)),
+                self.serial_next_event(),
+            ) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
+            debug_assert_eq!(next, self.compute_next_internal());
+            self.next_internal = Some(next);
         }
         self.now = t;
     }

@@ -125,6 +125,11 @@ impl Engine {
         if tick > limit {
             return None;
         }
+        Some(self.step_tick(tick))
+    }
+
+    /// Processes tick `tick`, which must be [`Engine::next_tick`].
+    pub(crate) fn step_tick(&mut self, tick: u64) -> Step {
         // Cycle events first: an MST start at the expiry tick retriggers the watchdog
         // in time (spec-notes "same-tick order").
         let cycle_started = self.process_cycle_tick(tick);
@@ -138,12 +143,12 @@ impl Engine {
         }
         self.wd.release_at(tick);
         let changed = self.update_levels();
-        Some(Step {
+        Step {
             tick,
             changed,
             expired,
             cycle_started,
-        })
+        }
     }
 
     /// The effects of the watchdog going active.

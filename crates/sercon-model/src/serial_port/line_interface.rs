@@ -26,13 +26,15 @@ impl Chip {
     /// (1H.3 REPON) the segment is forwarded to the output.
     pub fn line_input(&mut self, seg: LineSegment) {
         self.touched();
-        let mut frames = Vec::new();
+        // A scratch list kept between inputs: no allocation per segment.
+        let mut frames = std::mem::take(&mut self.rx_scratch);
         self.serial.line_input(seg, &mut frames);
         // The telegram processor takes every frame the receiver saw (contract with tp).
-        for f in frames {
+        for f in frames.drain(..) {
             let tick = self.clock.tick_at_or_after(f.start);
             self.tp.on_rx_frame(tick, f);
         }
+        self.rx_scratch = frames;
         self.settle();
     }
 

@@ -60,7 +60,8 @@ pub(crate) struct SerialPort {
     tx: Transmitter,
     rx: Receiver,
     events: LineEvents,
-    rx_frames: Vec<RxFrame>,
+    /// The receive log (the newest [`RX_LOG_FRAMES`]; the oldest dropped in O(1)).
+    rx_frames: std::collections::VecDeque<RxFrame>,
     /// Level at pin IDLE (410B §2, active low).
     idle: bool,
     /// Level at pin REACTN (410B §2, active low).
@@ -99,7 +100,7 @@ impl SerialPort {
             tx: Transmitter::default(),
             rx: Receiver::new(at, timeout),
             events: LineEvents::default(),
-            rx_frames: Vec::new(),
+            rx_frames: std::collections::VecDeque::new(),
             idle: true,
             reactn: true,
             fibbr: false,
@@ -191,9 +192,12 @@ impl SerialPort {
                 frames,
             },
         );
-        self.rx_frames.extend(frames.iter().skip(first).cloned());
-        let excess = self.rx_frames.len().saturating_sub(RX_LOG_FRAMES);
-        self.rx_frames.drain(..excess);
+        for f in frames.iter().skip(first) {
+            if self.rx_frames.len() >= RX_LOG_FRAMES {
+                self.rx_frames.pop_front();
+            }
+            self.rx_frames.push_back(f.clone());
+        }
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
         if self.cfg.tx_mode == TxMode::Repeat {
             let fwd = self.forwarded(seg);
@@ -228,7 +232,7 @@ impl SerialPort {
 
     /// Moves the received frames to the end of `out`.
     pub(crate) fn take_rx_frames(&mut self, out: &mut Vec<RxFrame>) {
-        out.append(&mut self.rx_frames);
+        out.extend(self.rx_frames.drain(..));
     }
 
     /// The instant of the next scheduled status change (including FIBBR's timeout).

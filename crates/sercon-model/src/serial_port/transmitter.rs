@@ -144,14 +144,18 @@ impl Transmitter {
 
     /// The instant the next output segment starts, if one is queued.
     pub(crate) fn next_release_at(&self) -> Option<Instant> {
-        [
+        // Asked on every turn of a ring's event loop: plain comparisons.
+        let mut next = self.resume_at;
+        for t in [
             self.own.front().map(|s| s.start),
             self.background.front().map(|s| s.start),
-            self.resume_at,
         ]
         .into_iter()
         .flatten()
-        .min()
+        {
+            next = Some(next.map_or(t, |n| n.min(t)));
+        }
+        next
     }
 
     /// Releases every output segment that starts at or before `now`.
@@ -215,6 +219,9 @@ impl Transmitter {
 
     /// Moves the released segments to the end of `out`.
     pub(crate) fn take_released(&mut self, out: &mut Vec<LineSegment>) {
+        if self.released.is_empty() {
+            return;
+        }
         out.append(&mut self.released);
     }
 }
