@@ -270,7 +270,8 @@ fn raw_bits(text: &str) -> Option<Option<i128>> {
     } else {
         return None;
     };
-    if digits.is_empty() || digits.len() > 32 {
+    // 8-byte data shows 64 binary digits; a number beyond 128 bits fails below (overflow).
+    if digits.is_empty() {
         return Some(None);
     }
     Some(
@@ -283,6 +284,7 @@ fn raw_bits(text: &str) -> Option<Option<i128>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     fn attr(length: DataLength, format: DisplayFormat, places: u8) -> Attribute {
         Attribute::new(length, format).with_decimal_places(places)
@@ -388,6 +390,53 @@ mod tests {
             parse_words(a, "255"),
             Err(ValueParseError::NotAMultiple { factor: 10, .. })
         ));
+    }
+
+    fn fixed_attribute() -> impl Strategy<Value = Attribute> {
+        (
+            prop_oneof![
+                Just(DataLength::TwoBytes),
+                Just(DataLength::FourBytes),
+                Just(DataLength::EightBytes)
+            ],
+            prop_oneof![
+                Just(DisplayFormat::Binary),
+                Just(DisplayFormat::UnsignedDecimal),
+                Just(DisplayFormat::SignedDecimal),
+                Just(DisplayFormat::Hexadecimal)
+            ],
+            0u8..=9,
+        )
+            .prop_map(|(l, f, p)| attr(l, f, p))
+    }
+
+    proptest! {
+        // Nothing a person types panics the parser, whatever the attribute.
+        #[test]
+        fn any_text_any_attribute_never_panics(raw in any::<u32>(), text in ".{0,48}") {
+            let _ = parse_words(Attribute::from_raw(raw), &text);
+        }
+
+        // sercos-facts.md, attribute bits 27-24 and 22-20: what the tool shows for a value
+        // parses back to the same words (fixed-length numbers, factor 1).
+        #[test]
+        fn shown_values_parse_back(a in fixed_attribute(), words in proptest::collection::vec(any::<u16>(), 4)) {
+            let n = a.fixed_words().unwrap_or(1);
+            let words = &words[..n];
+            let value = a.decode(words).expect("fixed words decode");
+            let shown = a.display(&value).to_string();
+            prop_assert_eq!(parse_words(a, &shown).expect(&shown), words.to_vec());
+        }
+
+        // sercos-facts.md, "Variable-length data": IDN lists as shown parse back.
+        #[test]
+        fn shown_idn_lists_parse_back(raw in proptest::collection::vec(any::<u16>(), 0..12)) {
+            let a = attr(DataLength::VariableWords, DisplayFormat::Idn, 0);
+            let value = Value::IdnList(raw.iter().map(|&r| Idn::from_raw(r)).collect());
+            let shown = a.display(&value).to_string();
+            let words = parse_words(a, &shown).expect(&shown);
+            prop_assert_eq!(a.decode(&words).expect("decodes"), value);
+        }
     }
 
     #[test]
