@@ -4,6 +4,7 @@
 //!
 //! Readings the documents leave open are in `docs/spec-notes.md`, "Serial port".
 
+mod coded_frames;
 mod line_events;
 mod line_interface;
 mod port_config;

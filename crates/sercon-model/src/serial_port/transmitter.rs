@@ -10,12 +10,11 @@
 use std::collections::VecDeque;
 use std::sync::Arc;
 
-use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity, frame_bit_len};
 use sercos_wire::time::{Duration, Instant};
 
+use super::coded_frames::CodedFrames;
 use super::segment::{FrameHint, LineSegment, LineSignal};
 
-use super::PRESYNC_BITS;
 /// An own telegram placed on the transmitter's timeline.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Placed {
@@ -58,36 +57,18 @@ pub(crate) struct Transmitter {
     released: Vec<LineSegment>,
     /// End of the last own telegram queued.
     busy_until: Instant,
-}
-
-/// An NRZI encoder whose line is at light level `level` before its first bit.
-///
-/// NRZI only depends on the polarity for the level before the first bit (a dark line), so the
-/// polarity whose dark level is `level` gives an encoder that continues a line at `level`.
-fn nrzi_encoder_at(level: bool) -> Encoder {
-    let polarity = if level {
-        Polarity::LightOnLow
-    } else {
-        Polarity::LightOnHigh
-    };
-    Encoder::new(LineConfig::new(Coding::Nrzi, polarity))
+    /// The bits of the telegrams sent lately.
+    coded: CodedFrames,
 }
 
 impl Own {
     /// The segment of this telegram on a line at light level `level` before its first bit.
-    fn encode(self, level: bool) -> Option<LineSegment> {
-        let mut enc = nrzi_encoder_at(level);
-        let mut bits = BitVec::with_capacity(usize::try_from(self.len).ok()?);
-        if self.presync {
-            // 410B §4.1 1H.8 PRESYNC: "Pre-frame sync word" before the frame.
-            enc.idle(PRESYNC_BITS, &mut bits).ok()?;
-        }
-        let offset = bits.len();
-        enc.encode(&self.telegram, &mut bits).ok()?;
+    fn segment(self, level: bool, coded: &mut CodedFrames) -> Option<LineSegment> {
+        let (bits, offset) = coded.coded(&self.telegram, self.presync, self.len, level)?;
         Some(LineSegment {
             start: self.start,
             bit_time: self.bit_time,
-            signal: LineSignal::Bits(Arc::new(bits)),
+            signal: LineSignal::Bits(bits),
             level_before: level,
             hint: Some(FrameHint {
                 telegram: self.telegram,
@@ -114,14 +95,13 @@ impl Transmitter {
             // Not encodable (sercos-wire's `EncodeError`): nothing is sent.
             return None;
         }
-        let sync = if presync { PRESYNC_BITS } else { 0 };
-        let len = sync + frame_bit_len(telegram);
+        let (telegram, len) = self.coded.lookup(telegram, presync);
         let end = start.saturating_add(bit_time.saturating_mul(len));
         self.own.push_back(Own {
             start,
             bit_time,
             presync,
-            telegram: Arc::from(telegram),
+            telegram,
             len,
         });
         self.busy_until = end;
@@ -166,7 +146,8 @@ impl Transmitter {
                     break;
                 };
                 // The NRZI coder continues from the level the line is at.
-                let Some(seg) = own.encode(self.level_at(t)) else {
+                let level = self.level_at(t);
+                let Some(seg) = own.segment(level, &mut self.coded) else {
                     continue;
                 };
                 self.own_until = seg.end().unwrap_or(t);
