@@ -95,3 +95,34 @@ fn config_file_gives_the_ring() {
     ]);
     assert!(line.contains("/nonexistent/ring.toml"), "{line}");
 }
+
+// The drive's own IDN file: values, names and units come from the drive (elements 2-4),
+// not from the catalogue, which knows neither P-0-0100 nor P-0-0101.
+#[test]
+fn a_drives_own_idns_are_decoded_by_its_attribute() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("ring.toml");
+    let axis = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../sercos-drive/data/tc2000r-axis.toml"
+    );
+    std::fs::write(
+        &path,
+        format!("[[drive]]\naddress = 1\nidn_file = {axis:?}\n[[drive]]\naddress = 2\n"),
+    )
+    .expect("write");
+    let config = path.to_str().expect("utf-8 path");
+    let out = ok(&["read", "--config", config, "--drive", "1", "P-0-0100"]);
+    assert_eq!(out, "P-0-0100 motor temperature = 25 °C\n");
+    let out = ok(&["read", "--config", config, "--drive", "1", "P-0-0101"]);
+    assert_eq!(out, "P-0-0101 firmware version = sercon-drive 0.1\n");
+    let out = ok(&["info", "--config", config, "--drive", "1", "P-0-0100"]);
+    assert!(out.contains("maximum            200 °C"), "{out}");
+    let (_, line) = fails(&[
+        "write", "--config", config, "--drive", "1", "P-0-0100", "30",
+    ]);
+    assert!(line.contains("7004H"), "{line}");
+    // Drive 2 has the standard catalogue only.
+    let (_, line) = fails(&["read", "--config", config, "--drive", "2", "P-0-0100"]);
+    assert!(line.contains("1001H IDN not present"), "{line}");
+}
