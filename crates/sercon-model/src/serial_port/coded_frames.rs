@@ -1,0 +1,147 @@
+//! The line bits of the telegrams sent lately, kept for reuse.
+//!
+//! A node sends mostly the same telegrams cycle after cycle (the MST every cycle, MDTs and
+//! ATs whose data did not change), so the transmitter looks a telegram up here before it
+//! encodes it: the same bytes with the same sync word on a line at the same level give the
+//! same NRZI bits (410B §2 TxD: NRZI coding depends only on the data and the level before
+//! the first bit), shared through an `Arc` instead of being encoded and allocated again.
+
+use std::sync::Arc;
+
+use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity, frame_bit_len};
+
+use super::PRESYNC_BITS;
+
+/// Telegrams remembered (a master's MST and MDTs, a slave's ATs: a handful per cycle).
+const ENTRIES: usize = 8;
+
+/// One telegram and its coded forms.
+#[derive(Debug, Clone)]
+struct Entry {
+    telegram: Arc<[u8]>,
+    presync: bool,
+    /// Line bits: sync word, flags, stuffed data and FCS.
+    len: u64,
+    /// The bits on a line at level `false` / `true` before the first bit, with the offset
+    /// of the opening flag.
+    coded: [Option<(Arc<BitVec>, u64)>; 2],
+}
+
+/// The telegrams sent lately (round robin).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct CodedFrames {
+    entries: Vec<Entry>,
+    next: usize,
+}
+
+impl CodedFrames {
+    /// The shared bytes of `telegram` and its length in line bits (with the sync word if
+    /// `presync`).
+    pub(crate) fn lookup(&mut self, telegram: &[u8], presync: bool) -> (Arc<[u8]>, u64) {
+        if let Some(e) = self
+            .entries
+            .iter()
+            .find(|e| e.presync == presync && *e.telegram == *telegram)
+        {
+            return (e.telegram.clone(), e.len);
+        }
+        let sync = if presync { PRESYNC_BITS } else { 0 };
+        let entry = Entry {
+            telegram: Arc::from(telegram),
+            presync,
+            len: sync + frame_bit_len(telegram),
+            coded: [None, None],
+        };
+        let found = (entry.telegram.clone(), entry.len);
+        if self.entries.len() < ENTRIES {
+            self.entries.push(entry);
+        } else if let Some(slot) = self.entries.get_mut(self.next) {
+            *slot = entry;
+            self.next = (self.next + 1) % ENTRIES;
+        }
+        found
+    }
+
+    /// The NRZI bits of `telegram` (as given by [`CodedFrames::lookup`]) on a line at
+    /// light level `level` before the first bit, and the offset of the opening flag;
+    /// `None` when it cannot be encoded.
+    pub(crate) fn coded(
+        &mut self,
+        telegram: &Arc<[u8]>,
+        presync: bool,
+        len: u64,
+        level: bool,
+    ) -> Option<(Arc<BitVec>, u64)> {
+        let entry = self
+            .entries
+            .iter_mut()
+            .find(|e| e.presync == presync && Arc::ptr_eq(&e.telegram, telegram));
+        let slot = usize::from(level);
+        if let Some(hit) = entry
+            .as_ref()
+            .and_then(|e| e.coded.get(slot).cloned().flatten())
+        {
+            return Some(hit);
+        }
+        let coded = encode(telegram, presync, len, level)?;
+        if let Some(c) = entry.and_then(|e| e.coded.get_mut(slot)) {
+            *c = Some(coded.clone());
+        }
+        Some(coded)
+    }
+}
+
+/// Encodes `telegram` for a line at light level `level` before its first bit.
+fn encode(telegram: &[u8], presync: bool, len: u64, level: bool) -> Option<(Arc<BitVec>, u64)> {
+    // NRZI only depends on the polarity for the level before the first bit (a dark line),
+    // so the polarity whose dark level is `level` continues a line at `level`.
+    let polarity = if level {
+        Polarity::LightOnLow
+    } else {
+        Polarity::LightOnHigh
+    };
+    let mut enc = Encoder::new(LineConfig::new(Coding::Nrzi, polarity));
+    let mut bits = BitVec::with_capacity(usize::try_from(len).ok()?);
+    if presync {
+        // 410B §4.1 1H.8 PRESYNC: "Pre-frame sync word" before the frame.
+        enc.idle(PRESYNC_BITS, &mut bits).ok()?;
+    }
+    let offset = bits.len();
+    enc.encode(telegram, &mut bits).ok()?;
+    Some((Arc::new(bits), offset))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reused_bits_equal_fresh_ones_at_both_levels() {
+        let mut c = CodedFrames::default();
+        let mst = [255u8, 4];
+        let (t, len) = c.lookup(&mst, false);
+        for level in [false, true, false, true] {
+            let (bits, offset) = c.coded(&t, false, len, level).expect("encodable");
+            let (fresh, fresh_offset) = encode(&mst, false, len, level).expect("encodable");
+            assert_eq!(*bits, *fresh);
+            assert_eq!(offset, fresh_offset);
+            assert_eq!(bits.len(), len);
+        }
+        // The same bytes share the first allocation; other bytes or a sync word do not.
+        assert!(Arc::ptr_eq(&c.lookup(&mst, false).0, &t));
+        assert!(!Arc::ptr_eq(&c.lookup(&mst, true).0, &t));
+        assert_eq!(c.lookup(&mst, true).1, len + PRESYNC_BITS);
+    }
+
+    #[test]
+    fn more_telegrams_than_entries_still_encode_right() {
+        let mut c = CodedFrames::default();
+        for n in 0..(3 * ENTRIES as u8) {
+            let tel = [n, n.wrapping_mul(7), 0x7E];
+            let (t, len) = c.lookup(&tel, false);
+            let (bits, _) = c.coded(&t, false, len, true).expect("encodable");
+            assert_eq!(*bits, *encode(&tel, false, len, true).expect("encodable").0);
+        }
+        assert_eq!(c.entries.len(), ENTRIES);
+    }
+}
