@@ -45,6 +45,12 @@ pub enum SlaveDriverEvent {
     CyclicSetUpFailed(SlaveError),
     /// The service-channel server did something.
     Service(SlaveEvent),
+    /// The MST was missing twice in a row (410B §4.1 4H.9 INT_MSTMIS) in `phase`: the slave
+    /// shut down and fell back to phase 0.
+    MstLost {
+        /// The phase the slave was in.
+        phase: CommunicationPhase,
+    },
     /// No valid MDT record arrived in a phase 3–4 cycle (RERR, or VAL = 0).
     CommandMissing,
     /// The device refused a record or a phase.

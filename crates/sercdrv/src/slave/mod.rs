@@ -54,10 +54,11 @@ use crate::ram_layout::{self, PhaseGroup, RamLayout, RamLayoutRequest, RegionKin
 use crate::service_channel::{ContainerSlot, ServiceChannelSlave, SlaveEvent};
 use sercos_wire::idn::{Element, Idn};
 
-/// Interrupts of 4H the slave serves (410B §4.1 4H.4, 4H.5, 4H.6).
+/// Interrupts of 4H the slave serves (410B §4.1 4H.4, 4H.5, 4H.6, 4H.9).
 const SERVED_LO: IntFlagsLo = IntFlagsLo::INT_COMEND
     .union(IntFlagsLo::INT_PHAS0)
-    .union(IntFlagsLo::INT_PHASERR);
+    .union(IntFlagsLo::INT_PHASERR)
+    .union(IntFlagsLo::INT_MSTMIS);
 
 /// Most events kept for [`SlaveDriver::take_events`]; older ones are dropped.
 const MAX_EVENTS: usize = 4096;
@@ -305,6 +306,9 @@ impl<D: SlaveDevice> SlaveDriver<D> {
             if lo.contains(IntFlagsLo::INT_PHASERR) {
                 self.phase_error(bus);
             }
+            if lo.contains(IntFlagsLo::INT_MSTMIS) {
+                self.mst_lost(bus, now);
+            }
             if !hi.is_empty() {
                 let events = self.service.on_interrupt(bus, self.device.idn_store(), hi);
                 for e in events {
@@ -331,6 +335,19 @@ impl<D: SlaveDevice> SlaveDriver<D> {
         if self.phase != CommunicationPhase::Phase0 {
             self.enter(now, CommunicationPhase::Phase0);
         }
+        self.program_phases(bus);
+    }
+
+    /// 410B §4.1 4H.9 INT_MSTMIS: the MST was missing twice in a row. The slave has lost the
+    /// master's cycle: it shuts down (the drive leaves the phase, its axis stops) and waits
+    /// for the master's phase-0 MSTs to start again (spec-notes "Driver slave and drive node").
+    fn mst_lost<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) {
+        if self.phase == CommunicationPhase::Phase0 {
+            return;
+        }
+        self.push(SlaveDriverEvent::MstLost { phase: self.phase });
+        self.last_refused = None;
+        self.enter(now, CommunicationPhase::Phase0);
         self.program_phases(bus);
     }
 
