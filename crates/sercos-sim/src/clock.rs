@@ -59,6 +59,13 @@ impl NodeClock {
         });
     }
 
+    /// Whether local time equals simulation time at every instant (no error ever set).
+    pub fn is_identity(&self) -> bool {
+        self.pieces
+            .iter()
+            .all(|p| p.ppb == 0 && p.local == p.global)
+    }
+
     fn piece_global(&self, g: u64) -> Piece {
         self.pieces
             .iter()

@@ -38,8 +38,6 @@ pub(crate) struct Node {
     pub(crate) expect: VecDeque<(Instant, usize)>,
     /// End of the last own telegram (local): the background resumes there.
     pub(crate) resume: Option<Instant>,
-    /// The output line is taken up to here (simulation time).
-    pub(crate) out_floor: Instant,
     /// The last segment on the output line (simulation time), when levels are followed.
     pub(crate) last_out: Option<LineSegment>,
     /// Follow the output line's level (reference path).
@@ -74,7 +72,6 @@ impl Node {
             ints: (false, false),
             expect: VecDeque::new(),
             resume: None,
-            out_floor: Instant::ZERO,
             last_out: None,
             track_levels: true,
             in_floor: Instant::ZERO,
@@ -144,12 +141,19 @@ impl Node {
     /// Puts `seg` (simulation time) on the output line. Like the transmitter (410B §1:
     /// regenerated signal), a telegram continues from the level the line is at (NRZI decodes
     /// an inverted telegram the same); an own steady signal starts from that level.
-    pub(crate) fn put_out(&mut self, mut seg: LineSegment, own: bool) -> LineSegment {
-        seg.start = seg.start.max(self.out_floor);
+    /// `out_floor` is how far the node's output line is taken (simulation time; kept by
+    /// the simulation in one dense table so that a forwarding hop touches nothing else).
+    pub(crate) fn put_out(
+        &mut self,
+        out_floor: &mut Instant,
+        mut seg: LineSegment,
+        own: bool,
+    ) -> LineSegment {
+        seg.start = seg.start.max(*out_floor);
         if !self.track_levels {
             // Fast path: receivers take telegrams from the level they are at (see
             // `Simulation::deliver`), so the output's level need not be followed.
-            self.out_floor = seg.end().unwrap_or(seg.start);
+            *out_floor = seg.end().unwrap_or(seg.start);
             return seg;
         }
         if let Some(last) = &self.last_out {
@@ -161,7 +165,7 @@ impl Node {
                 _ => {}
             }
         }
-        self.out_floor = seg.end().unwrap_or(seg.start);
+        *out_floor = seg.end().unwrap_or(seg.start);
         self.last_out = Some(seg.clone());
         seg
     }

@@ -84,6 +84,16 @@ pub struct Simulation {
     bus_busy_until: Instant,
     now: Instant,
     lookahead: Lookahead,
+    /// How far each node's output line is taken (simulation time), dense for the hop loop.
+    out_floors: Vec<Instant>,
+    /// Delay of each fibre (dense copy of `segments[k].delay`).
+    seg_delays: Vec<Duration>,
+    /// Hop into node k cannot change a passing slave telegram apart from its delay: the
+    /// fibre into k has no fault, is not traced and keeps nothing; k has no power windows.
+    static_plain: Vec<bool>,
+    /// `static_plain` and, now, k is a powered repeating slave whose clock is the
+    /// simulation's: a slave's telegram passes k by a sum of delays (fast path).
+    plain_hop: Vec<bool>,
 }
 
 /// How a node's next wake is found.
@@ -157,7 +167,7 @@ impl Simulation {
             let traced = TracedChip::new(&node.cfg.name, pins, |p| chip.pin_level(p))?;
             node.vcd = Some(recorder.add_vcd_chip(traced));
         }
-        let segments = seg_delays
+        let segments: Vec<Segment> = seg_delays
             .iter()
             .enumerate()
             .map(|(k, d)| {
@@ -180,7 +190,23 @@ impl Simulation {
                 }
             })
             .collect();
+        let ring = matches!(cfg.topology, Topology::Ring { .. });
+        let static_plain: Vec<bool> = (0..n)
+            .map(|k| {
+                let up = (k + n - 1) % n;
+                ring && k != 0
+                    && segments
+                        .get(up)
+                        .is_some_and(|s| s.faults.is_clean() && !s.keep_last)
+                    && !recorder.wants(up)
+                    && nodes.get(k).is_some_and(|nd| nd.off_windows.is_empty())
+            })
+            .collect();
         let mut sim = Simulation {
+            out_floors: vec![Instant::ZERO; n],
+            seg_delays: seg_delays.clone(),
+            plain_hop: vec![false; n],
+            static_plain,
             topology: cfg.topology,
             delivery: cfg.delivery,
             nodes,
@@ -361,6 +387,7 @@ impl Simulation {
 
     /// Pin events to the VCD, host wakes, outputs to the line.
     fn serve(&mut self, j: usize) {
+        self.refresh_hop(j);
         let Some(node) = self.nodes.get_mut(j) else {
             return;
         };
@@ -384,6 +411,19 @@ impl Simulation {
             self.route_output(j, seg);
         }
         self.buf = out;
+        self.refresh_hop(j);
+    }
+
+    /// Recomputes whether a slave telegram passes node `k` by its delays alone.
+    fn refresh_hop(&mut self, k: usize) {
+        let plain = self.static_plain.get(k).copied().unwrap_or(false)
+            && self
+                .nodes
+                .get(k)
+                .is_some_and(|n| n.powered && n.repeating && n.clock.is_identity());
+        if let Some(p) = self.plain_hop.get_mut(k) {
+            *p = plain;
+        }
     }
 
     /// A segment node `j`'s chip released (local time).
@@ -410,7 +450,10 @@ impl Simulation {
         }
         let mut g = seg;
         g.start = node.clock.to_global(g.start);
-        let g = node.put_out(g, origin == j);
+        let Some(floor) = self.out_floors.get_mut(j) else {
+            return;
+        };
+        let g = node.put_out(floor, g, origin == j);
         self.propagate(j, g, origin, true);
     }
 
@@ -425,7 +468,19 @@ impl Simulation {
         let mut cur = from;
         let mut seg = seg;
         let mut enter = enter;
+        let fast = self.delivery == Delivery::Fast;
+        // Fast path: a slave's telegram or filler goes to no slave (see below), so through
+        // a run of plain repeaters (410B §1: "The slaves regenerate and repeat their received
+        // data") it only moves by fibre delay plus repeater latency, hop after hop, without
+        // touching the nodes.
+        let passes = fast
+            && origin != 0
+            && enter
+            && matches!(seg.signal, LineSignal::Bits(_) | LineSignal::Filler);
         for _ in 0..n {
+            if passes {
+                self.pass_plain(&mut cur, &mut seg);
+            }
             let next = (cur + 1) % n;
             let Some(s) = self.segments.get_mut(cur) else {
                 return;
@@ -444,7 +499,6 @@ impl Simulation {
             }
             enter = true;
             seg.start = seg.start.saturating_add(s.delay);
-            let fast = self.delivery == Delivery::Fast;
             let Some(node) = self.nodes.get(next) else {
                 return;
             };
@@ -472,8 +526,45 @@ impl Simulation {
             let l_out = node.clock.to_local(seg.start).saturating_add(lat);
             seg.start = node.clock.to_global(l_out);
             seg.distorted = false;
-            seg = node.put_out(seg, false);
+            let Some(floor) = self.out_floors.get_mut(next) else {
+                return;
+            };
+            seg = node.put_out(floor, seg, false);
             cur = next;
+        }
+    }
+
+    /// Carries a slave's telegram or filler, at the entrance of fibre `*cur`, through the
+    /// plain repeaters after it (`plain_hop`), exactly as the per-hop loop of
+    /// [`Simulation::propagate`] would (clean fibre, no delivery, identity clock, output
+    /// floor), leaving `*cur` at the last of them.
+    fn pass_plain(&mut self, cur: &mut usize, seg: &mut LineSegment) {
+        let n = self.nodes.len();
+        let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        let len = seg
+            .end()
+            .map_or(Duration::ZERO, |e| e.saturating_duration_since(seg.start));
+        let mut start = seg.start;
+        let mut moved = false;
+        loop {
+            let next = (*cur + 1) % n;
+            if next == 0 || !self.plain_hop.get(next).copied().unwrap_or(false) {
+                break;
+            }
+            let (Some(d), Some(floor)) = (self.seg_delays.get(*cur), self.out_floors.get_mut(next))
+            else {
+                break;
+            };
+            start = start.saturating_add(*d).saturating_add(lat).max(*floor);
+            // `Node::put_out` on the fast path: the line is taken to the telegram's end
+            // (a steady signal: to its start).
+            *floor = start.saturating_add(len);
+            *cur = next;
+            moved = true;
+        }
+        if moved {
+            seg.start = start;
+            seg.distorted = false;
         }
     }
 
@@ -643,8 +734,11 @@ impl Simulation {
                         self.queue.cancel(h);
                     }
                     n.expect.clear();
-                    n.out_floor = n.out_floor.max(t);
                 }
+                if let Some(f) = self.out_floors.get_mut(node) {
+                    *f = (*f).max(t);
+                }
+                self.refresh_hop(node);
                 // Its transmitter goes dark.
                 let dark =
                     LineSegment::steady(t, self.bit_time_hint(node), LineSignal::Dark, false);
@@ -655,6 +749,7 @@ impl Simulation {
                 if let Some(n) = self.nodes.get_mut(node) {
                     n.clock.set_error_ppb(t, ppm_to_ppb(ppm));
                 }
+                self.refresh_hop(node);
                 self.touch(node);
             }
             FaultKind::BitErrors { .. }

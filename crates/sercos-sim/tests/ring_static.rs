@@ -7,10 +7,11 @@ mod ring_support;
 use ring_support::*;
 use sercon_model::serial_port::REPEATER_LATENCY_BITS;
 use sercon_regs::{Register, SerconBus};
-use sercos_sim::Delivery;
 use sercos_sim::static_ring::{StaticRing, at_pattern, mdt_pattern};
+use sercos_sim::trace::SegmentId;
+use sercos_sim::{Delivery, Fault, FaultKind};
 use sercos_wire::line::frame_bit_len;
-use sercos_wire::time::{BitRate, Duration};
+use sercos_wire::time::{BitRate, Duration, Instant};
 
 /// One MCLK period of the slaves' 32 MHz clock: TRT counts from the first MCLK edge at or
 /// after the end of the MST (spec-notes "Telegram processor and MST").
@@ -169,6 +170,63 @@ fn fast_path_gives_the_same_trace_as_the_exact_path() {
         String::from_utf8_lossy(&logs[0]),
         String::from_utf8_lossy(&logs[1])
     );
+}
+
+/// Fast against exact on a ring of `slaves` with the log on the master's input fibre only
+/// (so that the fibres between slaves are plain and slave telegrams pass them by sums of
+/// delays, 410B §1 "The slaves regenerate and repeat their received data"), with `faults`.
+fn fast_equals_exact_at_master_input(slaves: usize, faults: Vec<Fault>, until: Instant) {
+    let mut logs = Vec::new();
+    for delivery in [Delivery::Exact, Delivery::Fast] {
+        let mut ring = StaticRing::new(slaves, 250);
+        ring.delivery = delivery;
+        ring.fibre_m = 30;
+        ring.at_words = 2;
+        ring.mdt_words = 2;
+        let (mut cfg, hosts, _) = build(&ring);
+        cfg.traces.log_segment = Some(SegmentId(slaves as u16));
+        cfg.faults = faults.clone();
+        let (_, out) = run(cfg, hosts, until);
+        logs.push(out.log);
+    }
+    assert!(parse_log(&logs[0]).len() > 4 * slaves);
+    assert_eq!(
+        String::from_utf8_lossy(&logs[0]),
+        String::from_utf8_lossy(&logs[1])
+    );
+}
+
+#[test]
+fn fast_path_through_plain_repeaters_gives_the_exact_trace() {
+    fast_equals_exact_at_master_input(12, Vec::new(), us(1000));
+}
+
+#[test]
+fn fast_path_through_plain_repeaters_gives_the_exact_trace_with_faults() {
+    // A burst and bit errors on fibres between slaves (not plain: taken hop by hop), a
+    // slave whose clock drifts (not plain from then on).
+    let faults = vec![
+        Fault {
+            at: us(310),
+            kind: FaultKind::BitErrorBurst {
+                segment: 3,
+                bits: 40,
+            },
+        },
+        Fault {
+            at: us(520),
+            kind: FaultKind::BitErrors {
+                segment: 6,
+                until: us(700),
+                rate: 0.001,
+            },
+        },
+        Fault {
+            at: us(400),
+            kind: FaultKind::ClockDrift { node: 9, ppm: 80.0 },
+        },
+    ];
+    fast_equals_exact_at_master_input(12, faults, us(1250));
 }
 
 #[test]
