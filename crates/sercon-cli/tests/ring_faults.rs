@@ -102,7 +102,8 @@ fn break_names_the_first_dark_node_and_the_ring_comes_back() {
 // A drive without power: it and the drives after it drop out; those after it lose MSTs.
 #[test]
 fn power_off_reports_the_drive_and_who_lost_msts() {
-    let r = run(&["power:2@200ms..300ms"], 500);
+    // Long enough for a whole new phase-up after the power returns.
+    let r = run(&["power:2@200ms..300ms"], 1500);
     let p4 = r.phase4_at_s.expect("phase 4");
     let ev = events(&r);
     let off = ev
@@ -120,8 +121,9 @@ fn power_off_reports_the_drive_and_who_lost_msts() {
         "{ev:?}"
     );
     assert_eq!(lost_msts_between(&r, p4 + 0.1, p4 + 0.3), vec![3, 4]);
-    // Drive 2 left phase 4 (power gone), and so did drive 1 (the master fell back).
-    for a in [1u8, 2] {
+    // Drive 2 left phase 4 (power gone), drive 1 too (the master fell back), and drives 3
+    // and 4 shut down on their own: MST missing twice (410B §4.1 4H.9 INT_MSTMIS).
+    for a in [1u8, 2, 3, 4] {
         assert!(
             ev.iter()
                 .any(|(_, k)| matches!(k, RingEventKind::ShutDown { drive, .. } if *drive == a)),
@@ -132,6 +134,11 @@ fn power_off_reports_the_drive_and_who_lost_msts() {
         ev.iter()
             .any(|(_, k)| matches!(k, RingEventKind::MasterError { .. }))
     );
+    // After power returns the master brings every drive back to phase 4 by itself.
+    assert_eq!(r.final_phase, 4);
+    for d in &r.drives {
+        assert_eq!(d.phase, 4, "drive {}", d.address);
+    }
 }
 
 // Bit errors: the FCS (ERRATA, Telegrams: ISO/IEC 3309) rejects corrupted telegrams; the
