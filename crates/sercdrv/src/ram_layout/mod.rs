@@ -8,8 +8,10 @@
 //! at a shared end marker so that every chain the chip may follow ends properly.
 
 mod allocator;
+mod budget;
 mod error;
 
+pub use budget::{MasterBudget, MdtContainers};
 pub use error::RamLayoutError;
 
 use allocator::Allocator;
