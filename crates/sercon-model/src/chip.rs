@@ -110,7 +110,7 @@ impl Chip {
             let next_ticks = loop {
                 // The timing control goes first at equal ticks: a cycle start sends the
                 // MST before the telegram processor's events of that tick.
-                let engine_next = self.engine.next_tick();
+                let engine_next = self.engine.next_tick_memo();
                 let tp_next = crate::telegram_processor::next_tick(self);
                 let engine_tick = engine_next.filter(|k| *k <= limit);
                 let tp_tick = tp_next.filter(|k| *k <= limit);
@@ -189,6 +189,7 @@ impl Chip {
     /// recomputed at the next advance.
     pub(crate) fn touched(&mut self) {
         self.next_internal = None;
+        self.engine.next_memo = None;
     }
 
     /// The next instant after [`Chip::now`] at which something observable happens: a

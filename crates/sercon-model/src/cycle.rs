@@ -303,6 +303,7 @@ impl Engine {
     // 410B §4.2.1 TRT "after end of MST": the MST synchronises the slave (spec-notes
     // "slave cycle").
     pub(crate) fn sync_cycle(&mut self, at: u64, block: u8) {
+        self.next_memo = None;
         self.cycle.pending = None;
         if self.cycle.run.is_some() {
             self.end_cycle(at, false);

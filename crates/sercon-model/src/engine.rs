@@ -52,6 +52,9 @@ pub(crate) struct Engine {
     /// 410B §4.1 12H TCNTLT: TCNT latched by RDCNT.
     pub(crate) tcntlt: u16,
     pub(crate) levels: Levels,
+    /// [`Engine::next_tick`] as last computed; `None` after a change that may move it
+    /// (a step, a cycle synchronised by an MST, anything from outside the chip).
+    pub(crate) next_memo: Option<Option<u64>>,
 }
 
 impl Engine {
@@ -73,6 +76,7 @@ impl Engine {
             wd: Watchdog::default(),
             tcntlt: 0,
             levels: [false; 5],
+            next_memo: None,
         };
         engine.levels = engine.compute_levels();
         engine
@@ -119,6 +123,18 @@ impl Engine {
         }
     }
 
+    /// [`Engine::next_tick`], remembered until the state changes (the event loop asks on
+    /// every turn; most turns are the telegram processor's, which leave it alone).
+    pub(crate) fn next_tick_memo(&mut self) -> Option<u64> {
+        if let Some(next) = self.next_memo {
+            debug_assert_eq!(next, self.next_tick(), "stale engine next tick");
+            return next;
+        }
+        let next = self.next_tick();
+        self.next_memo = Some(next);
+        next
+    }
+
     /// Processes the next scheduled tick if it is at or before `limit`.
     pub(crate) fn step(&mut self, limit: u64) -> Option<Step> {
         let tick = self.next_tick()?;
@@ -130,6 +146,7 @@ impl Engine {
 
     /// Processes tick `tick`, which must be [`Engine::next_tick`].
     pub(crate) fn step_tick(&mut self, tick: u64) -> Step {
+        self.next_memo = None;
         // Cycle events first: an MST start at the expiry tick retriggers the watchdog
         // in time (spec-notes "same-tick order").
         let cycle_started = self.process_cycle_tick(tick);

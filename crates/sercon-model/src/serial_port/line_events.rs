@@ -45,6 +45,11 @@ impl LineEvents {
         {
             return;
         }
+        if self.queue.back().is_none_or(|(t, _)| *t <= at) {
+            // The usual case: changes are scheduled in time order.
+            self.queue.push_back((at, change));
+            return;
+        }
         let idx = self.queue.partition_point(|(t, _)| *t <= at);
         self.queue.insert(idx, (at, change));
     }

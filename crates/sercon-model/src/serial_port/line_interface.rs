@@ -135,9 +135,13 @@ impl Chip {
         if after.2 != before.2 {
             self.pin_event(Pin::LErrn, after.2, at);
         }
-        let changed = self.engine.update_levels();
-        if changed != 0 {
-            self.emit(changed, at);
+        if applied.rdist_rose || applied.fibbr_rose {
+            // Only a raised flag can change INT0/INT1 here (every other change of the
+            // engine's state settles its pins where it happens).
+            let changed = self.engine.update_levels();
+            if changed != 0 {
+                self.emit(changed, at);
+            }
         }
         true
     }

@@ -40,6 +40,9 @@ pub const REPEATER_LATENCY_BITS: u64 = 2;
 /// Frames kept for [`crate::Chip::take_rx_frames`] (the newest; older ones are dropped).
 pub const RX_LOG_FRAMES: usize = 4096;
 
+/// Byte buffers of finished frames kept for reuse.
+const SPARE_BUFFERS: usize = 16;
+
 /// A telegram the receiver saw, known as soon as its line segment was handed to the chip.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RxFrame {
@@ -63,6 +66,8 @@ pub(crate) struct SerialPort {
     events: LineEvents,
     /// The receive log (the newest [`RX_LOG_FRAMES`]; the oldest dropped in O(1)).
     rx_frames: std::collections::VecDeque<RxFrame>,
+    /// Byte buffers of frames the chip has finished with, reused for new frames.
+    spare: Vec<Vec<u8>>,
     /// Level at pin IDLE (410B §2, active low).
     idle: bool,
     /// Level at pin REACTN (410B §2, active low).
@@ -102,6 +107,7 @@ impl SerialPort {
             rx: Receiver::new(at, timeout),
             events: LineEvents::default(),
             rx_frames: std::collections::VecDeque::new(),
+            spare: Vec::new(),
             idle: true,
             reactn: true,
             fibbr: false,
@@ -191,13 +197,19 @@ impl SerialPort {
             Sinks {
                 events: &mut self.events,
                 frames,
+                spare: &mut self.spare,
             },
         );
         for f in frames.iter().skip(first) {
-            if self.rx_frames.len() >= RX_LOG_FRAMES {
-                self.rx_frames.pop_front();
+            if self.rx_frames.len() >= RX_LOG_FRAMES
+                && let Some(old) = self.rx_frames.pop_front()
+            {
+                self.recycle(old.bytes);
             }
-            self.rx_frames.push_back(f.clone());
+            let mut bytes = self.spare.pop().unwrap_or_default();
+            bytes.clear();
+            bytes.extend_from_slice(&f.bytes);
+            self.rx_frames.push_back(RxFrame { bytes, ..*f });
         }
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
         if self.cfg.tx_mode == TxMode::Repeat {
@@ -229,6 +241,15 @@ impl SerialPort {
     /// When the next not yet released output segment starts.
     pub(crate) fn next_output_at(&self) -> Option<Instant> {
         self.tx.next_release_at()
+    }
+
+    /// Takes back the byte buffer of a frame the chip has finished with.
+    pub(crate) fn recycle(&mut self, mut bytes: Vec<u8>) {
+        // A few suffice: a handful of frames are in flight at a time.
+        if self.spare.len() < SPARE_BUFFERS {
+            bytes.clear();
+            self.spare.push(bytes);
+        }
     }
 
     /// Moves the received frames to the end of `out`.

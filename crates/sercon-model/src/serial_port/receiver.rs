@@ -45,6 +45,8 @@ pub(crate) struct Receiver {
 pub(crate) struct Sinks<'a> {
     pub(crate) events: &'a mut LineEvents,
     pub(crate) frames: &'a mut Vec<RxFrame>,
+    /// Byte buffers of frames already processed, for reuse (no allocation per frame).
+    pub(crate) spare: &'a mut Vec<Vec<u8>>,
 }
 
 impl Receiver {
@@ -93,7 +95,11 @@ impl Receiver {
 
     /// Takes one segment of the line input (light levels) at or after the previous one.
     pub(crate) fn input(&mut self, seg: &LineSegment, cfg: &PortConfig, sinks: Sinks<'_>) {
-        let Sinks { events, frames } = sinks;
+        let Sinks {
+            events,
+            frames,
+            spare,
+        } = sinks;
         let own_bt = cfg.bit_time.unwrap_or(seg.bit_time);
         self.timeout = own_bt.saturating_mul(FIBBR_BIT_TIMES);
         let prev_level = self.last.as_ref().is_some_and(|l| l.level_at(seg.start));
@@ -172,11 +178,14 @@ impl Receiver {
                     let start = seg
                         .start
                         .saturating_add(seg.bit_time.saturating_mul(hint.offset));
+                    let mut bytes = spare.pop().unwrap_or_default();
+                    bytes.clear();
+                    bytes.extend_from_slice(&hint.telegram);
                     deliver(
                         RxFrame {
                             start,
                             end,
-                            bytes: hint.telegram.to_vec(),
+                            bytes,
                             fcs_ok: true,
                         },
                         seg.bit_time,

@@ -111,6 +111,8 @@ pub(super) fn frame_end(chip: &mut Chip, tick: u64) {
             finish(chip, tick, at, hdr, &now.frame.bytes, now.frame.fcs_ok);
         }
     }
+    // The bytes' buffer serves a later frame.
+    chip.serial.recycle(now.frame.bytes);
 }
 
 /// Completes the receive telegram of header `at` with `bytes` (ADR + data).
