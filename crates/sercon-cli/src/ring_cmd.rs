@@ -29,8 +29,9 @@ pub struct RingArgs {
     /// the options below override it.
     #[arg(long, value_name = "ring.toml")]
     config: Option<PathBuf>,
-    /// Number of emulated drives (addresses 1…N; at most 8).
-    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    /// Number of emulated drives (addresses 1…N, up to 254: sercos-telegrams.md; a ring that
+    /// does not fit the master's RAM is refused with the layout's reason).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=254))]
     drives: Option<u8>,
     /// Controller of every node.
     #[arg(long, value_enum)]
