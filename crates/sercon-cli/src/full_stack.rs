@@ -19,7 +19,8 @@
 
 use std::time::Instant as WallInstant;
 
-use sercdrv::master::Progress;
+use sercdrv::master::{MasterConfig, Progress};
+use sercdrv::ram_layout::MasterBudget;
 use sercon_regs::Variant;
 use sercos_wire::address::DriveAddress;
 use sercos_wire::telegram::ControlWord;
@@ -186,6 +187,21 @@ pub enum FullStackError {
     /// The ring could not be built or run.
     #[error(transparent)]
     Ring(#[from] RingError),
+    /// The master's dual-port RAM cannot hold the ring's layout (410B §4.2), so the phase-up
+    /// would end in phase 2 with the layout refused; said before simulating it.
+    #[error(
+        "{drives} drives do not fit the master's RAM: the layout needs {needed} words of {available}; the largest ring that fits is {largest} drives (docs/performance.md, \"Full stack\")"
+    )]
+    DoesNotFit {
+        /// Drives asked for.
+        drives: u8,
+        /// Words needed.
+        needed: u32,
+        /// Words of the RAM.
+        available: u32,
+        /// The largest ring that fits.
+        largest: u32,
+    },
     /// The master did not reach phase 4 within the limit.
     #[error(
         "the master did not reach phase 4 within {limit_s} s simulated (phase {phase}, {progress:?})"
@@ -215,8 +231,36 @@ pub struct RunningStack {
     cycles_done: u64,
 }
 
-/// Builds `s`'s ring (the phase-up not yet run).
+/// Cyclic data bytes of the master's default telegram type 7 (`MasterConfig::new`): AT
+/// S-0-0011 (2) + S-0-0051 (4) + P-0-0019 (2), MDT S-0-0036 (4), as the standard catalogue
+/// sizes them.
+const AT_DATA_BYTES: u16 = 8;
+const MDT_DATA_BYTES: u16 = 4;
+
+/// The master's RAM budget for `s` (its default buffering and service buffers).
+pub fn master_budget(s: &FullStackScenario) -> MasterBudget {
+    let spec = s.ring_spec();
+    let cfg = MasterConfig::new(spec.variant, spec.bit_rate, spec.cycle_us, Vec::new());
+    MasterBudget {
+        buffering: cfg.buffering,
+        service_buffer_words: cfg.service_buffer_words,
+        ..MasterBudget::master_default(spec.variant, AT_DATA_BYTES, MDT_DATA_BYTES)
+    }
+}
+
+/// Builds `s`'s ring (the phase-up not yet run), refusing at once a ring whose layout the
+/// master's RAM cannot hold.
 pub fn build(s: &FullStackScenario) -> Result<BuiltRing, FullStackError> {
+    let budget = master_budget(s);
+    let drives = u32::from(s.drives);
+    if !budget.fits(drives) {
+        return Err(FullStackError::DoesNotFit {
+            drives: s.drives,
+            needed: budget.words_needed(drives),
+            available: u32::from(budget.variant.ram_words()),
+            largest: budget.largest_ring(),
+        });
+    }
     Ok(ring::build(&s.ring_spec(), Vec::new(), false)?)
 }
 
@@ -454,6 +498,25 @@ mod tests {
         assert_eq!(by_name("stack-n255"), None);
         assert_eq!(by_name("stack-nx"), None);
         assert_eq!(by_name("ring-8"), None);
+    }
+
+    #[test]
+    fn a_ring_the_masters_ram_cannot_hold_is_refused_before_simulating() {
+        // 410B §4.2: 2048 words; the master's double-buffered default holds 61 drives.
+        match build(&stack_n(254)) {
+            Err(FullStackError::DoesNotFit {
+                drives,
+                needed,
+                available,
+                largest,
+            }) => {
+                assert_eq!((drives, available, largest), (254, 2048, 61));
+                assert!(needed > 2048);
+            }
+            Err(e) => panic!("unexpected error {e}"),
+            Ok(_) => panic!("254 drives built"),
+        }
+        assert!(build(&stack_n(61)).is_ok());
     }
 
     #[test]
