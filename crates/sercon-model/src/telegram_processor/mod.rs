@@ -321,8 +321,11 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
         crate::mst::deadline(chip, tick);
         return;
     }
-    let Some(b) = chip.tp.block else { return };
-    match b.cur {
+    // Only the current header (the block carries a 256-byte bitmap: not copied).
+    let Some(cur) = chip.tp.block.as_ref().map(|b| b.cur) else {
+        return;
+    };
+    match cur {
         Some(Cur::Tx { at, hdr, start }) if start == tick => transmit::start(chip, tick, at, hdr),
         Some(Cur::Rx {
             at,

@@ -42,7 +42,8 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
 
 /// Decides at the start of a frame whether it is the expected receive telegram.
 fn accept(chip: &mut Chip, tick: u64, bytes: &[u8]) -> RxRole {
-    let Some(b) = chip.tp.block else {
+    // Only the current header (the block carries a 256-byte bitmap: not copied).
+    let Some(cur) = chip.tp.block.as_ref().map(|b| b.cur) else {
         return RxRole::Ignored;
     };
     let Some(Cur::Rx {
@@ -51,7 +52,7 @@ fn accept(chip: &mut Chip, tick: u64, bytes: &[u8]) -> RxRole {
         open,
         close,
         ..
-    }) = b.cur
+    }) = cur
     else {
         return RxRole::Ignored;
     };

@@ -93,8 +93,7 @@ pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHeader) {
     }
     advance(chip, tick, hdr.pt);
     // A transmit telegram after this one cannot start before this one has ended.
-    if let Some(b) = chip.tp.block
-        && let Some(Cur::Tx { start, .. }) = b.cur
+    if let Some(Some(Cur::Tx { start, .. })) = chip.tp.block.as_ref().map(|b| b.cur)
         && start < end
     {
         prog_error(chip, ProgErr::Overlap);
