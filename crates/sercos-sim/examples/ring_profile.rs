@@ -1,21 +1,45 @@
 //! Runs one `sercon bench` scenario for a number of cycles (for profilers such as
-//! `valgrind --tool=callgrind`): `ring_profile <scenario> <cycles>`.
+//! `valgrind --tool=callgrind`): `ring_profile <scenario> <cycles> [events|observable]`.
 
 use sercos_sim::scenario;
+use sercos_sim::sim::Lookahead;
+use sercos_wire::time::Duration;
 
 fn main() {
     let mut args = std::env::args().skip(1);
     let name = args.next().unwrap_or_else(|| "ring-8".into());
     let cycles: u64 = args.next().and_then(|c| c.parse().ok()).unwrap_or(100);
+    let lookahead = match args.next().as_deref() {
+        Some("observable") => Lookahead::Observable,
+        _ => Lookahead::Events,
+    };
     let Some(s) = scenario::all().into_iter().find(|s| s.name == name) else {
         eprintln!("no scenario {name}");
         std::process::exit(2);
     };
-    match scenario::run(&s, cycles) {
-        Ok(r) => println!("{}", r.to_json()),
+    let mut sim = match scenario::prepare(&s) {
+        Ok(sim) => sim,
         Err(e) => {
             eprintln!("{e}");
             std::process::exit(1);
         }
+    };
+    sim.set_lookahead(lookahead);
+    let cycle = Duration::from_micros(u64::from(s.ring.cycle_us));
+    let before = sim.stats();
+    let wall = std::time::Instant::now();
+    let end = sim.now() + cycle.saturating_mul(cycles);
+    if let Err(e) = sim.run_until(end) {
+        eprintln!("{e}");
+        std::process::exit(1);
     }
+    let wall_s = wall.elapsed().as_secs_f64();
+    let sim_s = cycle.as_secs_f64() * cycles as f64;
+    let after = sim.stats();
+    println!(
+        "{name} {lookahead:?}: {:.1} us/cycle, {:.1}x real time, {:.1} events/cycle",
+        wall_s * 1e6 / cycles as f64,
+        sim_s / wall_s,
+        (after.events - before.events) as f64 / cycles as f64
+    );
 }

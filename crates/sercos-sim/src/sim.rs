@@ -539,33 +539,35 @@ impl Simulation {
     /// [`Simulation::propagate`] would (clean fibre, no delivery, identity clock, output
     /// floor), leaving `*cur` at the last of them.
     fn pass_plain(&mut self, cur: &mut usize, seg: &mut LineSegment) {
-        let n = self.nodes.len();
+        let first = *cur + 1;
+        // The plain slaves after `cur` (the master never is one, so the run ends before it).
+        let run = self
+            .plain_hop
+            .get(first..)
+            .map_or(0, |r| r.iter().take_while(|p| **p).count());
+        let (Some(delays), Some(floors)) = (
+            self.seg_delays.get(*cur..*cur + run),
+            self.out_floors.get_mut(first..first + run),
+        ) else {
+            return;
+        };
+        if run == 0 {
+            return;
+        }
         let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
         let len = seg
             .end()
             .map_or(Duration::ZERO, |e| e.saturating_duration_since(seg.start));
         let mut start = seg.start;
-        let mut moved = false;
-        loop {
-            let next = (*cur + 1) % n;
-            if next == 0 || !self.plain_hop.get(next).copied().unwrap_or(false) {
-                break;
-            }
-            let (Some(d), Some(floor)) = (self.seg_delays.get(*cur), self.out_floors.get_mut(next))
-            else {
-                break;
-            };
+        for (d, floor) in delays.iter().zip(floors.iter_mut()) {
             start = start.saturating_add(*d).saturating_add(lat).max(*floor);
             // `Node::put_out` on the fast path: the line is taken to the telegram's end
             // (a steady signal: to its start).
             *floor = start.saturating_add(len);
-            *cur = next;
-            moved = true;
         }
-        if moved {
-            seg.start = start;
-            seg.distorted = false;
-        }
+        *cur += run;
+        seg.start = start;
+        seg.distorted = false;
     }
 
     /// 410B Fig. 4: the bus carries own telegrams only; overlapping ones are garbled.
