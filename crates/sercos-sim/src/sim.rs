@@ -27,6 +27,8 @@ use crate::node::{Node, repeats};
 use crate::recorder::{Recorder, TraceOutput};
 use crate::topology::Topology;
 
+mod host_run;
+
 /// Rounds of "serve the nodes an event touched" per event before giving up on quiet.
 const MAX_SETTLE_ROUNDS: usize = 1024;
 
@@ -94,6 +96,10 @@ pub struct Simulation {
     /// `static_plain` and, now, k is a powered repeating slave whose clock is the
     /// simulation's: a slave's telegram passes k by a sum of delays (fast path).
     plain_hop: Vec<bool>,
+    /// Hosts running inside other hosts' bus time (`host_run`).
+    host_nesting: usize,
+    /// The first error of events run inside a host's bus time, for `run_until` to return.
+    held_error: Option<SimError>,
 }
 
 /// How a node's next wake is found.
@@ -223,6 +229,8 @@ impl Simulation {
             bus_busy_until: Instant::ZERO,
             now: Instant::ZERO,
             lookahead: Lookahead::default(),
+            host_nesting: 0,
+            held_error: None,
         };
         for (i, f) in sim.faults.iter().enumerate() {
             let target = ComponentId(u32::try_from(n + i).unwrap_or(u32::MAX));
@@ -235,17 +243,11 @@ impl Simulation {
                 sim.queue.schedule(e.max(f.at), target, Ev::FaultEnd(i))?;
             }
         }
-        for j in 0..n {
-            if let Some(node) = sim.nodes.get_mut(j) {
-                node.run_host(Wake::Start);
-                node.ints = (
-                    node.chip.pin_level(sercon_model::pins::Pin::Int0),
-                    node.chip.pin_level(sercon_model::pins::Pin::Int1),
-                );
-            }
-            sim.touch(j);
-        }
+        sim.start_hosts();
         sim.settle()?;
+        if let Some(e) = sim.held_error.take() {
+            return Err(e);
+        }
         Ok(sim)
     }
 
@@ -306,28 +308,39 @@ impl Simulation {
     /// Runs every event up to and including `t`, then brings every powered chip to `t`.
     pub fn run_until(&mut self, t: Instant) -> Result<(), SimError> {
         while let Some(ev) = self.queue.pop_until(t) {
-            self.now = ev.time;
-            self.stats.events += 1;
-            match ev.payload {
-                Ev::Node(j) => {
-                    if let Some(node) = self.nodes.get_mut(j) {
-                        node.wake = None;
-                    }
-                    self.advance_node(j, ev.time);
-                }
-                Ev::FaultStart(i) => self.fault_start(i, ev.time)?,
-                Ev::FaultEnd(i) => self.fault_end(i, ev.time)?,
-            }
-            self.settle()?;
-            self.recorder.flush_before(self.now)?;
+            self.process(ev)?;
         }
         self.now = self.now.max(t);
         for j in 0..self.nodes.len() {
             self.advance_node(j, t);
         }
         self.settle()?;
+        if let Some(e) = self.held_error.take() {
+            return Err(e);
+        }
         self.recorder.flush_before(self.now)?;
         Ok(())
+    }
+
+    /// Runs one event of the queue and serves the nodes it touched.
+    fn process(&mut self, ev: crate::event_queue::Event<Ev>) -> Result<(), SimError> {
+        self.now = self.now.max(ev.time);
+        self.stats.events += 1;
+        match ev.payload {
+            Ev::Node(j) => {
+                if let Some(node) = self.nodes.get_mut(j) {
+                    node.wake = None;
+                }
+                self.advance_node(j, ev.time);
+            }
+            Ev::FaultStart(i) => self.fault_start(i, ev.time)?,
+            Ev::FaultEnd(i) => self.fault_end(i, ev.time)?,
+        }
+        self.settle()?;
+        if let Some(e) = self.held_error.take() {
+            return Err(e);
+        }
+        self.recorder.flush_before(self.now)
     }
 
     /// Ends the traces and hands them over (the simulation can still be inspected; it
@@ -385,16 +398,25 @@ impl Simulation {
         Ok(())
     }
 
-    /// Pin events to the VCD, host wakes, outputs to the line.
+    /// Pin events to the VCD, host wakes, outputs to the line; then whether slave
+    /// telegrams may pass node `j` by delays alone (its host may have changed REPON).
     fn serve(&mut self, j: usize) {
+        self.serve_node(j);
         self.refresh_hop(j);
+    }
+
+    fn serve_node(&mut self, j: usize) {
+        if !self.nodes.get(j).is_some_and(|n| n.powered) {
+            return;
+        }
+        // Hosts run with the ring running along (`host_run`).
+        self.serve_host(j);
         let Some(node) = self.nodes.get_mut(j) else {
             return;
         };
         if !node.powered {
             return;
         }
-        node.serve_host();
         if let Some(v) = node.vcd {
             node.chip.drain_pin_events(&mut self.pins);
             for mut e in self.pins.drain(..) {
@@ -411,7 +433,6 @@ impl Simulation {
             self.route_output(j, seg);
         }
         self.buf = out;
-        self.refresh_hop(j);
     }
 
     /// Recomputes whether a slave telegram passes node `k` by its delays alone.
