@@ -165,17 +165,20 @@ fn bench(c: &mut Criterion) {
 criterion_group!(benches, bench);
 
 /// `RING_PAIR_PROFILE=<ms>` runs that many simulated milliseconds from the warmed-up state
-/// and exits, without criterion (for `valgrind --tool=callgrind`: a fixed amount of work).
+/// and exits, without criterion (for `valgrind --tool=callgrind`: a fixed amount of work);
+/// `RING_PAIR_REPEAT=<n>` does that `n` times, each from a copy of the warmed-up state (for
+/// comparing CPU times of two builds with `/usr/bin/time` on a busy machine).
 fn main() {
-    if let Some(ms) = std::env::var("RING_PAIR_PROFILE")
-        .ok()
-        .and_then(|v| v.parse::<u64>().ok())
-    {
-        let mut p = pair();
-        p.run_to(Instant::ZERO + Duration::from_micros(500));
-        let until = p.now + Duration::from_millis(ms);
-        p.run_to(until);
-        black_box(p);
+    let var = |name: &str| std::env::var(name).ok().and_then(|v| v.parse::<u64>().ok());
+    if let Some(ms) = var("RING_PAIR_PROFILE") {
+        let mut warm = pair();
+        warm.run_to(Instant::ZERO + Duration::from_micros(500));
+        for _ in 0..var("RING_PAIR_REPEAT").unwrap_or(1) {
+            let mut p = warm.clone();
+            let until = p.now + Duration::from_millis(ms);
+            p.run_to(until);
+            black_box(p);
+        }
         return;
     }
     benches();
