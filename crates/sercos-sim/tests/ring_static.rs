@@ -204,7 +204,7 @@ fn fast_path_through_plain_repeaters_gives_the_exact_trace() {
 #[test]
 fn fast_path_through_plain_repeaters_gives_the_exact_trace_with_faults() {
     // A burst and bit errors on fibres between slaves (not plain: taken hop by hop), a
-    // slave whose clock drifts (not plain from then on).
+    // slave whose clock drifts (not plain from then on), a slave switched off and on again.
     let faults = vec![
         Fault {
             at: us(310),
@@ -224,6 +224,13 @@ fn fast_path_through_plain_repeaters_gives_the_exact_trace_with_faults() {
         Fault {
             at: us(400),
             kind: FaultKind::ClockDrift { node: 9, ppm: 80.0 },
+        },
+        Fault {
+            at: us(800),
+            kind: FaultKind::PowerOff {
+                node: 4,
+                until: Some(us(950)),
+            },
         },
     ];
     fast_equals_exact_at_master_input(12, faults, us(1250));
