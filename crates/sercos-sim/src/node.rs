@@ -18,7 +18,7 @@ use crate::host::{HostProgram, NodeBus, Wake};
 const REPON: u16 = 1 << 3;
 /// Host wakes in a row at one instant before the node is left alone (a program that
 /// keeps an interrupt toggling cannot hang the simulation).
-const MAX_HOST_WAKES: usize = 64;
+pub(crate) const MAX_HOST_WAKES: usize = 64;
 
 /// One node of the ring.
 pub(crate) struct Node {
@@ -52,6 +52,8 @@ pub(crate) struct Node {
     pub(crate) wake: Option<(Instant, EventHandle)>,
     /// Index in the VCD, if traced.
     pub(crate) vcd: Option<usize>,
+    /// The host is running (or has not started yet): it is not woken again meanwhile.
+    pub(crate) host_busy: bool,
 }
 
 impl Node {
@@ -79,6 +81,7 @@ impl Node {
             repeating: false,
             wake: None,
             vcd: None,
+            host_busy: false,
         }
     }
 
@@ -98,23 +101,31 @@ impl Node {
     /// Wakes the host for interrupt changes and a due deadline, as often as they come.
     pub(crate) fn serve_host(&mut self) {
         for _ in 0..MAX_HOST_WAKES {
-            let ints = (
-                self.chip.pin_level(Pin::Int0),
-                self.chip.pin_level(Pin::Int1),
-            );
-            let why = if ints != self.ints {
-                self.ints = ints;
-                Wake::Interrupt {
-                    int0: ints.0,
-                    int1: ints.1,
-                }
-            } else if self.host_deadline.is_some_and(|d| d <= self.chip.now()) {
-                self.host_deadline = None;
-                Wake::Deadline
-            } else {
+            let Some(why) = self.host_due() else {
                 return;
             };
             self.run_host(why);
+        }
+    }
+
+    /// Why the host is to be woken now (an interrupt pin changed, its deadline passed),
+    /// taking the wake: `None` when nothing is due.
+    pub(crate) fn host_due(&mut self) -> Option<Wake> {
+        let ints = (
+            self.chip.pin_level(Pin::Int0),
+            self.chip.pin_level(Pin::Int1),
+        );
+        if ints != self.ints {
+            self.ints = ints;
+            Some(Wake::Interrupt {
+                int0: ints.0,
+                int1: ints.1,
+            })
+        } else if self.host_deadline.is_some_and(|d| d <= self.chip.now()) {
+            self.host_deadline = None;
+            Some(Wake::Deadline)
+        } else {
+            None
         }
     }
 

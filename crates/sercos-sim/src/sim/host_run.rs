@@ -1,0 +1,197 @@
+//! Hosts inside the ring. A host's bus accesses cost time (`NodeConfig::bus_access`), and
+//! the ring runs along with them: before an access moves its chip's clock on, every other
+//! node's events up to then are run and the chip's own output is put on the line, so that
+//! every line segment reaches a chip before the chip's clock passes its start (the contract
+//! of `Chip::line_input`). Without this a host that works for a while (the master's driver
+//! handles a cycle in ≈ 18 µs at 100 ns per access) ran its chip past the signal still on
+//! its way, and the receiver saw no edges: a false FIBBR (410B §4.1 2H.13) on an intact
+//! ring (`docs/spec-notes.md`, "Ring simulation").
+
+use sercon_model::Chip;
+use sercon_regs::SerconBus;
+use sercos_wire::time::{Duration, Instant};
+
+use super::Simulation;
+use crate::error::SimError;
+use crate::host::{HostProgram, IdleHost, Wake};
+use crate::node::{MAX_HOST_WAKES, repeats};
+
+/// Hosts woken inside other hosts' bus time at most this deep; deeper ones move only their
+/// own chip on ([`crate::host::NodeBus`]), so a long chain of busy hosts cannot exhaust the stack.
+const MAX_HOST_NESTING: usize = 16;
+
+/// A host's access to its chip inside a running simulation (see the module notes).
+struct RingBus<'a> {
+    sim: &'a mut Simulation,
+    node: usize,
+    cost: Duration,
+}
+
+impl RingBus<'_> {
+    fn chip(&mut self) -> Option<&mut Chip> {
+        self.sim.nodes.get_mut(self.node).map(|n| &mut n.chip)
+    }
+
+    fn spend(&mut self) {
+        if let Err(e) = self.sim.spend_host_time(self.node, self.cost) {
+            self.sim.held_error.get_or_insert(e);
+        }
+    }
+}
+
+impl SerconBus for RingBus<'_> {
+    fn read_register(&mut self, address: u8) -> u16 {
+        let v = self.chip().map_or(0, |c| c.read_register(address));
+        self.spend();
+        v
+    }
+
+    fn write_register(&mut self, address: u8, value: u16) {
+        if let Some(c) = self.chip() {
+            c.write_register(address, value);
+        }
+        self.spend();
+    }
+
+    fn read_ram(&mut self, address: u16) -> u16 {
+        let v = self.chip().map_or(0, |c| c.read_ram(address));
+        self.spend();
+        v
+    }
+
+    fn write_ram(&mut self, address: u16, value: u16) {
+        if let Some(c) = self.chip() {
+            c.write_ram(address, value);
+        }
+        self.spend();
+    }
+}
+
+impl Simulation {
+    /// Wakes node `j`'s host for interrupt changes and a due deadline, as often as they come
+    /// (`Node::serve_host`), with the ring running along (a busy host is not woken again).
+    pub(super) fn serve_host(&mut self, j: usize) {
+        if self.host_nesting >= MAX_HOST_NESTING {
+            if let Some(node) = self.nodes.get_mut(j)
+                && !node.host_busy
+            {
+                node.serve_host();
+            }
+            return;
+        }
+        for _ in 0..MAX_HOST_WAKES {
+            let Some(node) = self.nodes.get_mut(j) else {
+                return;
+            };
+            if node.host_busy || !node.powered {
+                return;
+            }
+            let Some(why) = node.host_due() else {
+                return;
+            };
+            self.host_wake(j, why);
+        }
+    }
+
+    /// Runs node `j`'s host once for `why`, its accesses through a [`RingBus`].
+    pub(super) fn host_wake(&mut self, j: usize, why: Wake) {
+        let Some(node) = self.nodes.get_mut(j) else {
+            return;
+        };
+        let busy = std::mem::replace(&mut node.host_busy, true);
+        let mut host: Box<dyn HostProgram> = std::mem::replace(&mut node.host, Box::new(IdleHost));
+        let now = node.chip.now();
+        let cost = node.cfg.bus_access;
+        self.host_nesting += 1;
+        let deadline = host.wake(
+            &mut RingBus {
+                sim: self,
+                node: j,
+                cost,
+            },
+            now,
+            why,
+        );
+        self.host_nesting -= 1;
+        if let Some(node) = self.nodes.get_mut(j) {
+            node.host = host;
+            node.host_busy = busy;
+            node.host_deadline = deadline;
+            node.repeating = repeats(&mut node.chip);
+        }
+        self.touch(j);
+    }
+
+    /// Moves node `j`'s chip on by one bus access of `cost`, running the ring along: in
+    /// steps no longer than the shortest fibre (no signal gets from one node to another
+    /// faster), the chip first (its output goes on the line at once), then every event of
+    /// the other nodes up to the step's end.
+    fn spend_host_time(&mut self, j: usize, cost: Duration) -> Result<(), SimError> {
+        if cost == Duration::ZERO {
+            return Ok(());
+        }
+        let Some(node) = self.nodes.get(j) else {
+            return Ok(());
+        };
+        let target = node.chip.now().saturating_add(cost);
+        let until = node.clock.to_global(target);
+        let hop = self
+            .seg_delays
+            .iter()
+            .copied()
+            .min()
+            .filter(|d| *d > Duration::ZERO);
+        loop {
+            let Some(node) = self.nodes.get_mut(j) else {
+                return Ok(());
+            };
+            if node.chip.now() >= target {
+                return Ok(());
+            }
+            let from = node.clock.to_global(node.chip.now());
+            let mut step = until;
+            if let Some(h) = hop {
+                step = step.min(from.saturating_add(h));
+            }
+            if let Some(e) = self.queue.peek_time() {
+                step = step.min(e.max(from));
+            }
+            let local = node.clock.to_local(step).min(target);
+            // Always forward: at least to the next picosecond of the node's own time.
+            let local = local.max(node.chip.now().saturating_add(Duration::from_picos(1)));
+            node.chip.advance_to(local);
+            self.touch(j);
+            self.settle()?;
+            let step = self
+                .nodes
+                .get(j)
+                .map_or(step, |n| n.clock.to_global(n.chip.now()));
+            self.run_events_until(step)?;
+        }
+    }
+
+    /// Runs the queued events up to and including `t` (inside a host's bus time).
+    fn run_events_until(&mut self, t: Instant) -> Result<(), SimError> {
+        while let Some(ev) = self.queue.pop_until(t) {
+            self.process(ev)?;
+        }
+        Ok(())
+    }
+
+    /// Wakes every host with [`Wake::Start`], in node order, each on its own chip at time
+    /// 0 (every chip is still at reset and the line dark: nothing can arrive late that
+    /// matters; starting the hosts one after another with the ring running along would
+    /// delay every later node's configuration by the earlier hosts' bus time).
+    pub(super) fn start_hosts(&mut self) {
+        for j in 0..self.nodes.len() {
+            if let Some(node) = self.nodes.get_mut(j) {
+                node.run_host(Wake::Start);
+                node.ints = (
+                    node.chip.pin_level(sercon_model::pins::Pin::Int0),
+                    node.chip.pin_level(sercon_model::pins::Pin::Int1),
+                );
+            }
+            self.touch(j);
+        }
+    }
+}
