@@ -121,12 +121,12 @@ impl Chip {
                     (Some(e), Some(k)) => e.min(k),
                     (e, k) => e.or(k).unwrap_or(u64::MAX),
                 };
-                while self
-                    .serial_next_event()
-                    .filter(|a| *a <= t)
-                    .is_some_and(|a| self.clock.tick_at_or_after(a) <= bound)
-                    && self.serial_step(t)
-                {}
+                // tick_at_or_after(a) <= bound  <=>  a <= instant(bound): no division per
+                // check.
+                let bound_at = self.clock.instant(bound).min(t);
+                while self.serial_next_event().is_some_and(|a| a <= bound_at) && self.serial_step(t)
+                {
+                }
                 match (engine_tick, tp_tick) {
                     (Some(e), tp) if tp.is_none_or(|k| e <= k) => {
                         let step = self.engine.step_tick(e);

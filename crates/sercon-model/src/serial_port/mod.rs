@@ -9,6 +9,7 @@ mod line_events;
 mod line_interface;
 mod port_config;
 mod receiver;
+mod rx_log;
 mod segment;
 mod transmitter;
 
@@ -64,8 +65,8 @@ pub(crate) struct SerialPort {
     tx: Transmitter,
     rx: Receiver,
     events: LineEvents,
-    /// The receive log (the newest [`RX_LOG_FRAMES`]; the oldest dropped in O(1)).
-    rx_frames: std::collections::VecDeque<RxFrame>,
+    /// The receive log (the newest [`RX_LOG_FRAMES`]).
+    rx_log: rx_log::RxLog,
     /// Byte buffers of frames the chip has finished with, reused for new frames.
     spare: Vec<Vec<u8>>,
     /// Level at pin IDLE (410B §2, active low).
@@ -106,7 +107,7 @@ impl SerialPort {
             tx: Transmitter::default(),
             rx: Receiver::new(at, timeout),
             events: LineEvents::default(),
-            rx_frames: std::collections::VecDeque::new(),
+            rx_log: rx_log::RxLog::default(),
             spare: Vec::new(),
             idle: true,
             reactn: true,
@@ -201,15 +202,7 @@ impl SerialPort {
             },
         );
         for f in frames.iter().skip(first) {
-            if self.rx_frames.len() >= RX_LOG_FRAMES
-                && let Some(old) = self.rx_frames.pop_front()
-            {
-                self.recycle(old.bytes);
-            }
-            let mut bytes = self.spare.pop().unwrap_or_default();
-            bytes.clear();
-            bytes.extend_from_slice(&f.bytes);
-            self.rx_frames.push_back(RxFrame { bytes, ..*f });
+            self.rx_log.push(f);
         }
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
         if self.cfg.tx_mode == TxMode::Repeat {
@@ -254,7 +247,7 @@ impl SerialPort {
 
     /// Moves the received frames to the end of `out`.
     pub(crate) fn take_rx_frames(&mut self, out: &mut Vec<RxFrame>) {
-        out.extend(self.rx_frames.drain(..));
+        self.rx_log.take(out);
     }
 
     /// The instant of the next scheduled status change (including FIBBR's timeout).
