@@ -38,6 +38,9 @@ pub struct Chip {
     pub(crate) next_internal: Option<Option<Instant>>,
     /// Frames of one line input on their way to the telegram processor (reused).
     pub(crate) rx_scratch: Vec<crate::serial_port::RxFrame>,
+    /// Last traced levels of DMAREQR / DMAREQT in static mode, and the tick of the last
+    /// traced pulse in pulsed mode (410B §2 pins 38, 39; §4.1 1H.14 DMAMODE).
+    pub(crate) dma_trace: [(bool, Option<u64>); 2],
 }
 
 impl Chip {
@@ -72,6 +75,7 @@ impl Chip {
             serial,
             next_internal: None,
             rx_scratch: Vec::new(),
+            dma_trace: [(false, None); 2],
         }
     }
 
@@ -241,6 +245,11 @@ impl Chip {
 
     /// Moves the pin events recorded so far (time-ordered) to the end of `out`.
     pub fn drain_pin_events(&mut self, out: &mut Vec<PinEvent>) {
+        // A DMA pulse's falling edge is recorded one MCLK period ahead: keep the promise of
+        // time order (stable, so same-instant events keep their order).
+        if !self.events.is_sorted_by_key(|e| e.at) {
+            self.events.sort_by_key(|e| e.at);
+        }
         out.append(&mut self.events);
     }
 
@@ -280,6 +289,52 @@ impl Chip {
     /// After the FIFOs changed from `before` at MCLK tick `tick`: the pulses (DMAMODE = 1).
     pub(crate) fn dma_changed(&mut self, before: crate::telegram_processor::FifoState, tick: u64) {
         self.tp.fifo.pulse_after(before, tick);
+        self.trace_dma_pins(tick);
+    }
+
+    /// Pin events of DMAREQR / DMAREQT at MCLK tick `tick`, for the traced ones: the level in
+    /// static mode, a pulse of one MCLK period in pulsed mode (410B §2 pins 38, 39, active
+    /// high; §4.1 1H.14 DMAMODE; spec-notes "Pulsed DMA requests").
+    fn trace_dma_pins(&mut self, tick: u64) {
+        let pulsed = self.dma_pulsed();
+        let fifo = &self.tp.fifo;
+        let pins = [
+            (Pin::DmaReqR, fifo.dmareqr(), fifo.pulse_r),
+            (Pin::DmaReqT, fifo.dmareqt(), fifo.pulse_t),
+        ];
+        for (i, (pin, active, pulse)) in pins.into_iter().enumerate() {
+            let Some(trace) = self.dma_trace.get_mut(i) else {
+                continue;
+            };
+            if !self.traced.contains(pin) {
+                continue;
+            }
+            if pulsed {
+                if active && pulse == Some(tick) && trace.1 != Some(tick) {
+                    trace.1 = Some(tick);
+                    let rise = self.clock.instant(tick);
+                    let fall = self.clock.instant(tick.saturating_add(1));
+                    self.events.push(PinEvent {
+                        at: rise,
+                        pin,
+                        level: true,
+                    });
+                    self.events.push(PinEvent {
+                        at: fall,
+                        pin,
+                        level: false,
+                    });
+                }
+            } else if trace.0 != active {
+                trace.0 = active;
+                let at = self.clock.instant(tick);
+                self.events.push(PinEvent {
+                    at,
+                    pin,
+                    level: active,
+                });
+            }
+        }
     }
 
     /// Records a change of the driven pins in `changed` at `at` for the traced ones.

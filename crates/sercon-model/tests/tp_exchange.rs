@@ -4,7 +4,7 @@
 mod harness;
 
 use harness::*;
-use sercon_model::pins::Pin;
+use sercon_model::pins::{Pin, PinSet};
 use sercon_regs::ram::header::{RxHeader, TxEnable};
 use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
 
@@ -378,5 +378,53 @@ fn pulsed_dma_requests_one_pulse_per_word() {
         }
         assert_eq!(pulses, 8, "{variant:?}: one pulse per word");
         assert_eq!(ring.slave.read(Register::Ctrl3) & (1 << 12), 0);
+    }
+}
+
+#[test]
+fn dma_request_pins_are_traced_in_both_modes() {
+    // 410B §2 pins 38/39 DMAREQR/DMAREQT as timed events (issue "controller part 1": every
+    // output pin as a level-change stream); 1H.14 DMAMODE: static level or one pulse per word.
+    for variant in Variant::ALL {
+        for pulsed in [false, true] {
+            let (mut ring, _) = phase4_timed(variant, Buf::Dma, 60, 150);
+            ring.slave
+                .set_traced_pins(PinSet::of(&[Pin::DmaReqT, Pin::DmaReqR]));
+            let c1 = ring.slave.read(Register::Ctrl1);
+            let mode = if pulsed { 1 << 14 } else { 0 };
+            ring.slave.write(Register::Ctrl1, (c1 & !(1 << 14)) | mode);
+            let step = sercos_wire::time::Duration::from_nanos(10);
+            let mut t = us(1);
+            while !ring.slave.pin_level(Pin::DmaReqT) && t < us(400) {
+                t += step;
+                ring.run_to(t);
+            }
+            let period = sercos_wire::time::Duration::from_picos(
+                1_000_000_000_000 / ring.slave.config().mclk_hz,
+            );
+            for w in 0..8u16 {
+                ring.slave.dma_write_transmit(0x4400 + w);
+                let now = ring.now() + period + period;
+                ring.run_to(now);
+            }
+            let mut ev = Vec::new();
+            ring.slave.drain_pin_events(&mut ev);
+            let t_edges: Vec<_> = ev.iter().filter(|e| e.pin == Pin::DmaReqT).collect();
+            assert!(ev.windows(2).all(|w| w[0].at <= w[1].at), "time order");
+            let rises = t_edges.iter().filter(|e| e.level).count();
+            let falls = t_edges.iter().filter(|e| !e.level).count();
+            if pulsed {
+                // One pulse (rise, then fall one MCLK period later) per word the FIFO wants.
+                assert_eq!((rises, falls), (8, 8), "{variant:?} pulsed: {t_edges:?}");
+                for p in t_edges.chunks(2) {
+                    assert!(p[0].level && !p[1].level);
+                    assert_eq!(p[1].at - p[0].at, period);
+                }
+            } else {
+                // Static: high while the FIFO wants words, low once the 8 words are in.
+                assert_eq!((rises, falls), (1, 1), "{variant:?} static: {t_edges:?}");
+                assert!(t_edges[0].level && !t_edges[1].level);
+            }
+        }
     }
 }
