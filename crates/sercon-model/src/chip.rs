@@ -296,6 +296,10 @@ impl Chip {
     /// static mode, a pulse of one MCLK period in pulsed mode (410B §2 pins 38, 39, active
     /// high; §4.1 1H.14 DMAMODE; spec-notes "Pulsed DMA requests").
     fn trace_dma_pins(&mut self, tick: u64) {
+        if !self.traced.contains(Pin::DmaReqR) && !self.traced.contains(Pin::DmaReqT) {
+            // Nothing to record (the common case: asked after every processor event).
+            return;
+        }
         let pulsed = self.dma_pulsed();
         let fifo = &self.tp.fifo;
         let pins = [
