@@ -130,9 +130,13 @@ impl IdnDatabase {
             while !text.is_char_boundary(end) {
                 end = end.saturating_sub(1);
             }
-            let _ = parameter.set_value(&Value::Text(
-                text.get(..end).unwrap_or("").as_bytes().to_vec(),
-            ));
+            let bytes = text.get(..end).unwrap_or("").as_bytes();
+            // Written every cycle by the drive but changed rarely: words that already hold
+            // exactly the encoding of `bytes` are left alone (same result, no encoding).
+            if parameter.holds_text(bytes) {
+                return;
+            }
+            let _ = parameter.set_value(&Value::Text(bytes.to_vec()));
         }
     }
 

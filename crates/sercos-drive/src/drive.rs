@@ -66,6 +66,11 @@ pub struct EmulatedDrive {
     axis: Axis,
     control: ControlWord,
     layout: CyclicLayout,
+    /// The instant of the last [`advance_to`](EmulatedDrive::advance_to) with nothing
+    /// changed since (no mutable access to the database, no phase or control word change):
+    /// advancing again to the same instant would change nothing, so it is skipped (the
+    /// slave driver asks for status word and feedback at the same instant).
+    settled_at: Option<Instant>,
 }
 
 /// Velocity units per rpm in S-0-0036 / S-0-0040 (4 decimal places, catalogue).
@@ -83,6 +88,7 @@ impl EmulatedDrive {
             database,
             control: ControlWord::new(),
             layout: CyclicLayout::default(),
+            settled_at: None,
         };
         drive.apply_time_constant();
         drive.update_diagnostics();
@@ -96,6 +102,7 @@ impl EmulatedDrive {
 
     /// The IDN database, mutable.
     pub fn database_mut(&mut self) -> &mut IdnDatabase {
+        self.settled_at = None;
         &mut self.database
     }
 
@@ -119,6 +126,7 @@ impl EmulatedDrive {
     /// (sercos-facts.md, S-0-0127, S-0-0128), whether or not the master has cancelled
     /// (acknowledged) the command since ([`IdnDatabase::transition_check_passed`]).
     pub fn set_phase(&mut self, phase: CommunicationPhase) -> Result<(), DriveError> {
+        self.settled_at = None;
         let from = self.phase();
         let refuse = |reason| {
             Err(DriveError::PhaseRefused {
@@ -163,7 +171,13 @@ impl EmulatedDrive {
                 found: record.len(),
             });
         }
-        self.advance_to(now);
+        // The axis moves up to `now` under the command it had; feedback and diagnostics are
+        // made once, below, after the record is taken.
+        if self.settled_at != Some(now) {
+            self.update_command();
+            self.axis.advance_to(now);
+        }
+        self.settled_at = None;
         if let [low, high, ..] = record {
             self.control = ControlWord::from_raw(u16::from_le_bytes([*low, *high]));
         }
@@ -173,22 +187,32 @@ impl EmulatedDrive {
         );
         if self.phase() == CommunicationPhase::Phase3 || self.phase() == CommunicationPhase::Phase4
         {
-            for field in self.layout.mdt.clone() {
+            for field in &self.layout.mdt {
                 let Some(bytes) = record.get(field.offset..field.offset + field.len) else {
                     continue;
                 };
-                let words: Vec<u16> = bytes
-                    .chunks_exact(2)
-                    .map(|pair| u16::from_le_bytes([pair[0], pair[1]]))
-                    .collect();
+                // Cyclic fields are fixed length, 1, 2 or 4 words (telegram_layout).
+                let mut words = [0u16; 4];
+                let count = bytes.len() / 2;
+                for (word, pair) in words.iter_mut().zip(bytes.chunks_exact(2)) {
+                    *word = u16::from_le_bytes([
+                        pair.first().copied().unwrap_or(0),
+                        pair.get(1).copied().unwrap_or(0),
+                    ]);
+                }
+                let Some(words) = words.get(..count) else {
+                    continue;
+                };
                 if let Some(parameter) = self.database.get(field.idn) {
-                    if let Ok(value) = parameter.attribute.decode(&words) {
+                    if let Ok(value) = parameter.attribute.decode(words) {
                         let _ = self.database.set_internal(field.idn, &value);
                     }
                 }
             }
         }
-        self.update_command();
+        // Command, feedback and diagnostics at `now` with the record taken (what the
+        // status word and AT data of this cycle are made from).
+        self.advance_to(now);
         Ok(())
     }
 
@@ -196,21 +220,28 @@ impl EmulatedDrive {
     /// order, little endian.
     pub fn at_cyclic_data(&self) -> Vec<u8> {
         let mut bytes = Vec::new();
-        for field in &self.layout.at {
-            let words = self
-                .database
-                .get(field.idn)
-                .map(|p| p.words().to_vec())
-                .unwrap_or_default();
-            let mut data: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-            data.resize(field.len, 0);
-            bytes.extend(data);
-        }
+        self.write_at_cyclic_data(&mut bytes);
         bytes
+    }
+
+    /// [`at_cyclic_data`](Self::at_cyclic_data) into `bytes` (cleared first), reusing its
+    /// allocation.
+    pub fn write_at_cyclic_data(&self, bytes: &mut Vec<u8>) {
+        bytes.clear();
+        for field in &self.layout.at {
+            let start = bytes.len();
+            if let Some(parameter) = self.database.get(field.idn) {
+                bytes.extend(parameter.words().iter().flat_map(|w| w.to_le_bytes()));
+            }
+            bytes.resize(start + field.len, 0);
+        }
     }
 
     /// Advances the axis to `now` and updates feedback values and diagnostics.
     pub fn advance_to(&mut self, now: Instant) {
+        if self.settled_at == Some(now) {
+            return;
+        }
         self.update_command();
         self.axis.advance_to(now);
         let velocity = (self.axis.velocity_rpm() * VELOCITY_SCALE).round();
@@ -235,6 +266,7 @@ impl EmulatedDrive {
             &Value::Signed(torque.clamp(-5000, 5000) as i64),
         );
         self.update_diagnostics();
+        self.settled_at = Some(now);
     }
 
     /// The status word without the service-channel bits (the slave driver adds AHS, busy and
@@ -323,23 +355,27 @@ impl EmulatedDrive {
         let _ = self
             .database
             .set_internal(DRIVE_STATUS_WORD, &Value::Unsigned(u64::from(status.raw())));
-        let message = if self.class_1_error() {
-            "F1500 class 1 error: manufacturer-specific error (P-0-0003)".to_string()
+        if self.class_1_error() {
+            self.database.set_diagnostic_message(
+                "F1500 class 1 error: manufacturer-specific error (P-0-0003)",
+            );
         } else if let Some(text) = self.pending_command_error() {
-            text
+            self.database.set_diagnostic_message(&text);
         } else {
-            match (status.ready_to_operate(), self.axis.command()) {
-                (ReadyToOperate::ReadyToOperate, AxisCommand::Halt) => "A0010 drive halt".into(),
-                (ReadyToOperate::ReadyToOperate, _) => "A0100 drive ready to operate".into(),
-                (ReadyToOperate::PowerReady, _) => "A0013 ready for power on".into(),
-                _ => format!(
-                    "A000{} communication phase {}",
-                    self.phase().number(),
-                    self.phase().number()
-                ),
-            }
-        };
-        self.database.set_diagnostic_message(&message);
+            let message = match (status.ready_to_operate(), self.axis.command()) {
+                (ReadyToOperate::ReadyToOperate, AxisCommand::Halt) => "A0010 drive halt",
+                (ReadyToOperate::ReadyToOperate, _) => "A0100 drive ready to operate",
+                (ReadyToOperate::PowerReady, _) => "A0013 ready for power on",
+                _ => match self.phase() {
+                    CommunicationPhase::Phase0 => "A0000 communication phase 0",
+                    CommunicationPhase::Phase1 => "A0001 communication phase 1",
+                    CommunicationPhase::Phase2 => "A0002 communication phase 2",
+                    CommunicationPhase::Phase3 => "A0003 communication phase 3",
+                    CommunicationPhase::Phase4 => "A0004 communication phase 4",
+                },
+            };
+            self.database.set_diagnostic_message(message);
+        }
     }
 
     /// The diagnostic message a failed procedure command left, while it is not cancelled.

@@ -81,9 +81,9 @@ impl SlaveDevice for EmulatedDrive {
         EmulatedDrive::status_word(self).raw()
     }
 
-    fn feedback_data(&mut self, now: Instant) -> Vec<u8> {
+    fn feedback_data(&mut self, now: Instant, out: &mut Vec<u8>) {
         self.advance_to(now);
-        self.at_cyclic_data()
+        self.write_at_cyclic_data(out);
     }
 }
 

@@ -3,7 +3,7 @@
 //! sercos-facts.md, IDNs: "Data block elements: 1 IDN, 2 name, 3 attribute, 4 unit,
 //! 5 minimum, 6 maximum, 7 operation data".
 
-use sercos_wire::attribute::{Attribute, AttributeError, Value};
+use sercos_wire::attribute::{Attribute, AttributeError, DataLength, Value};
 use sercos_wire::idn::Idn;
 use sercos_wire::idn_catalog::{CatalogDefault, IdnInfo};
 
@@ -98,6 +98,15 @@ impl Parameter {
     /// Replaces element 7 with `value`, checked against the attribute and `max_len`; no
     /// limit or write-protection check (that is the service channel's job).
     pub fn set_value(&mut self, value: &Value) -> Result<(), AttributeError> {
+        if let Some(count) = self.attribute.fixed_words() {
+            // Fixed-length data (feedback values, every cycle): encoded into the words held,
+            // without a new allocation; same words as `Attribute::encode`.
+            let (words, _) = self.attribute.encode_fixed(value)?;
+            self.words.clear();
+            self.words
+                .extend_from_slice(words.get(..count).unwrap_or_default());
+            return Ok(());
+        }
         let words = self.attribute.encode(value, self.max_len)?;
         self.check_variable_length(&words)?;
         self.words = words;
@@ -117,6 +126,33 @@ impl Parameter {
         }
         self.words = stored;
         Ok(())
+    }
+
+    /// Whether element 7 holds exactly what [`set_value`](Self::set_value) would store for
+    /// `Value::Text(bytes)` on variable-length 1-byte data: current length, maximum length
+    /// (ours, raised to the current one) and the bytes packed low byte first.
+    pub(crate) fn holds_text(&self, bytes: &[u8]) -> bool {
+        if self.attribute.data_length() != DataLength::VariableBytes {
+            return false;
+        }
+        let Ok(current) = u16::try_from(bytes.len()) else {
+            return false;
+        };
+        let packed = bytes.chunks(2).map(|pair| {
+            u16::from_le_bytes([
+                pair.first().copied().unwrap_or(0),
+                pair.get(1).copied().unwrap_or(0),
+            ])
+        });
+        match self.words.as_slice() {
+            [len, max, data @ ..] => {
+                *len == current
+                    && *max == self.max_len.max(current)
+                    && data.len() == bytes.len().div_ceil(2)
+                    && data.iter().copied().eq(packed)
+            }
+            _ => false,
+        }
     }
 
     fn check_variable_length(&self, words: &[u16]) -> Result<(), AttributeError> {

@@ -50,10 +50,22 @@ impl RecordPlaces {
     /// was received free of error (410B §4.2.1 RERR = 0) and its data are valid (single
     /// buffer VAL = 1; double buffer: VAL names the valid buffer).
     pub fn read_command<B: SerconBus + ?Sized>(&self, bus: &mut B) -> Option<Vec<u8>> {
+        let mut bytes = Vec::with_capacity(usize::from(self.mdt.len) * 2);
+        self.read_command_into(bus, &mut bytes).then_some(bytes)
+    }
+
+    /// [`read_command`](Self::read_command) into `bytes` (cleared first, its allocation
+    /// reused); `false` when there is no valid record.
+    pub fn read_command_into<B: SerconBus + ?Sized>(
+        &self,
+        bus: &mut B,
+        bytes: &mut Vec<u8>,
+    ) -> bool {
+        bytes.clear();
         let word0 = bus.read_ram(self.mdt_header);
         // 410B §4.2.1 RERR: "errored or not received (RERR = 1)".
         if word0 & RERR != 0 {
-            return None;
+            return false;
         }
         let start = match self.mdt.buffering {
             // 410B §4.2.1 VAL, single buffer: "telegram data is invalid (VAL = 0) or valid".
@@ -62,13 +74,12 @@ impl RecordPlaces {
             // (VAL = 1) is valid"; buffer 1 follows buffer 0 (ERRATA "container words").
             Buffering::Double if word0 & VAL != 0 => self.mdt.data.wrapping_add(self.mdt.len),
             Buffering::Double => self.mdt.data,
-            _ => return None,
+            _ => return false,
         };
-        let mut bytes = Vec::with_capacity(usize::from(self.mdt.len) * 2);
         for i in 0..self.mdt.len {
             bytes.extend_from_slice(&bus.read_ram(start.wrapping_add(i)).to_le_bytes());
         }
-        Some(bytes)
+        true
     }
 
     /// Writes the AT record: status word and feedback data; the service info (data

@@ -48,6 +48,7 @@ pub trait SlaveDevice {
     fn status_word(&mut self, now: Instant) -> u16;
 
     /// The feedback data of the AT record at `now` (after status word and service info),
-    /// little endian; the driver pads or cuts it to the configured length.
-    fn feedback_data(&mut self, now: Instant) -> Vec<u8>;
+    /// little endian, into `out` (cleared first; the driver reuses it every cycle); the
+    /// driver pads or cuts it to the configured length.
+    fn feedback_data(&mut self, now: Instant, out: &mut Vec<u8>);
 }

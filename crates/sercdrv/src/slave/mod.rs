@@ -103,6 +103,10 @@ pub struct SlaveDriver<D> {
     passed_checks: Vec<Idn>,
     state: State,
     events: Vec<SlaveDriverEvent>,
+    /// The MDT record of the cycle, reused every cycle (no allocation per cycle).
+    command: Vec<u8>,
+    /// The feedback data of the cycle, reused every cycle.
+    feedback: Vec<u8>,
 }
 
 impl<D: SlaveDevice> SlaveDriver<D> {
@@ -144,6 +148,8 @@ impl<D: SlaveDevice> SlaveDriver<D> {
             passed_checks: Vec::new(),
             state: State::Idle,
             events: Vec::new(),
+            command: Vec::new(),
+            feedback: Vec::new(),
         })
     }
 
@@ -418,13 +424,12 @@ impl<D: SlaveDevice> SlaveDriver<D> {
         }
         if self.phase.is_cyclic() {
             if let Some((_, places)) = &self.cyclic {
-                match places.read_command(bus) {
-                    Some(record) => {
-                        if let Err(refusal) = self.device.command_record(now, &record) {
-                            self.push(SlaveDriverEvent::DeviceRefused(refusal));
-                        }
+                if places.read_command_into(bus, &mut self.command) {
+                    if let Err(refusal) = self.device.command_record(now, &self.command) {
+                        self.push(SlaveDriverEvent::DeviceRefused(refusal));
                     }
-                    None => self.push(SlaveDriverEvent::CommandMissing),
+                } else {
+                    self.push(SlaveDriverEvent::CommandMissing);
                 }
             }
         }
@@ -568,14 +573,14 @@ impl<D: SlaveDevice> SlaveDriver<D> {
     /// step to phase 3 is armed, so its first AT is right); CMD_AT from status bit 5.
     fn write_feedback<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) {
         let status = self.device.status_word(now);
-        let feedback = self.device.feedback_data(now);
+        self.device.feedback_data(now, &mut self.feedback);
         if let Some(places) = &self.noncyclic_records {
             if !self.phase.is_cyclic() {
                 places.write_feedback(bus, status, &[]);
             }
         }
         if let Some((_, places)) = &self.cyclic {
-            places.write_feedback(bus, status, &feedback);
+            places.write_feedback(bus, status, &self.feedback);
         }
         // ERRATA "service info in a container": status bit 5 is CMD_AT of the container.
         self.service

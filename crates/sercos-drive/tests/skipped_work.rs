@@ -1,0 +1,160 @@
+//! Work the drive skips each cycle gives the same database as doing it: a second advance to
+//! the same instant, a diagnostic message (S-0-0095, sercos-facts.md "IDNs") rewritten with
+//! the text it already holds, fixed-length feedback encoded into the words held.
+
+use proptest::prelude::*;
+use sercos_drive::database::IdnDatabase;
+use sercos_drive::drive::EmulatedDrive;
+use sercos_drive::parameter::Parameter;
+use sercos_wire::attribute::Value;
+use sercos_wire::idn::{Element, Idn};
+use sercos_wire::telegram::{CommunicationPhase, ReadyToOperate};
+use sercos_wire::time::{Duration, Instant};
+
+const DIAGNOSTIC_MESSAGE: Idn = Idn::from_raw(95);
+
+fn idn(text: &str) -> Idn {
+    text.parse().unwrap_or(Idn::from_raw(0xFFFF))
+}
+
+fn write(drive: &mut EmulatedDrive, name: &str, words: &[u16]) {
+    let result = drive
+        .database_mut()
+        .write(idn(name), Element::OperationData, words);
+    assert_eq!(result, Ok(()), "{name}");
+}
+
+/// A drive in phase 4 with telegram type 2 (MDT S-0-0036, AT S-0-0040; Beckhoff AX2000,
+/// IDN 15) and velocity control (S-0-0032 = 2).
+fn phase_4_drive() -> EmulatedDrive {
+    let mut drive = EmulatedDrive::new(IdnDatabase::standard(), Instant::ZERO);
+    for phase in [CommunicationPhase::Phase1, CommunicationPhase::Phase2] {
+        assert!(drive.set_phase(phase).is_ok());
+    }
+    for (name, words) in [
+        ("S-0-0006", &[92][..]),
+        ("S-0-0089", &[1782]),
+        ("S-0-0008", &[1965]),
+        ("S-0-0007", &[1698]),
+        ("S-0-0010", &[32]),
+        ("S-0-0015", &[2]),
+        ("S-0-0032", &[2]),
+    ] {
+        write(&mut drive, name, words);
+    }
+    write(&mut drive, "S-0-0127", &[3]);
+    assert!(drive.set_phase(CommunicationPhase::Phase3).is_ok());
+    write(&mut drive, "S-0-0127", &[0]);
+    write(&mut drive, "S-0-0128", &[3]);
+    assert!(drive.set_phase(CommunicationPhase::Phase4).is_ok());
+    write(&mut drive, "S-0-0128", &[0]);
+    drive
+}
+
+fn record(control: u16, velocity: i32) -> Vec<u8> {
+    let mut bytes = control.to_le_bytes().to_vec();
+    bytes.extend([0, 0]);
+    bytes.extend(velocity.to_le_bytes());
+    bytes
+}
+
+fn snapshot(drive: &EmulatedDrive) -> (Vec<(Idn, Vec<u16>)>, u16, f64, f64) {
+    (
+        drive
+            .database()
+            .parameters()
+            .map(|p| (p.idn, p.words().to_vec()))
+            .collect(),
+        drive.status_word().raw(),
+        drive.axis().velocity_rpm(),
+        drive.axis().position_deg(),
+    )
+}
+
+#[test]
+fn advancing_twice_to_one_instant_is_advancing_once() {
+    let mut once = phase_4_drive();
+    let mut now = Instant::ZERO;
+    for step in 0..20 {
+        now += Duration::from_micros(250);
+        let control = if step < 10 { 0xE000 } else { 0xC000 };
+        assert!(
+            once.receive_mdt_record(now, &record(control, 5_000_000))
+                .is_ok()
+        );
+        let mut twice = once.clone();
+        once.advance_to(now);
+        twice.advance_to(now);
+        twice.advance_to(now);
+        assert_eq!(snapshot(&once), snapshot(&twice), "step {step}");
+    }
+}
+
+#[test]
+fn a_write_between_two_advances_to_one_instant_is_taken() {
+    let mut drive = phase_4_drive();
+    let now = Instant::ZERO + Duration::from_millis(1);
+    assert!(drive.receive_mdt_record(now, &record(0xE000, 0)).is_ok());
+    drive.advance_to(now);
+    let before = drive.axis().command();
+    // S-0-0036 in 4 decimal places: 100 rpm, written through the database at the same
+    // instant; the next advance must follow it.
+    write(&mut drive, "S-0-0036", &[0x4240, 0x000F]);
+    drive.advance_to(now);
+    assert_ne!(drive.axis().command(), before);
+    // A control word without drive-on at the same instant: the status word follows too.
+    assert!(drive.receive_mdt_record(now, &record(0x0000, 0)).is_ok());
+    drive.advance_to(now);
+    assert_eq!(
+        drive.status_word().ready_to_operate(),
+        ReadyToOperate::PowerReady
+    );
+}
+
+proptest! {
+    /// S-0-0095 after any sequence of messages holds exactly the encoding of the last one
+    /// (cut to the maximum length at a character boundary), as `set_value` gives it.
+    #[test]
+    fn diagnostic_message_words_are_the_encoding_of_the_last_text(
+        texts in proptest::collection::vec("[a-zA-Z0-9 äß€]{0,70}", 1..6),
+    ) {
+        let mut database = IdnDatabase::standard();
+        let Some(mut expected) = database.get(DIAGNOSTIC_MESSAGE).cloned() else {
+            return Err(TestCaseError::fail("S-0-0095 missing"));
+        };
+        for text in &texts {
+            database.set_diagnostic_message(text);
+            database.set_diagnostic_message(text);
+        }
+        let last = texts.last().map(String::as_str).unwrap_or("");
+        let mut end = last.len().min(usize::from(expected.max_len));
+        while !last.is_char_boundary(end) {
+            end -= 1;
+        }
+        prop_assert!(expected.set_value(&Value::Text(last.as_bytes()[..end].to_vec())).is_ok());
+        prop_assert_eq!(
+            database.get(DIAGNOSTIC_MESSAGE).map(Parameter::words),
+            Some(expected.words())
+        );
+    }
+
+    /// Fixed-length values encoded into the words held are the words `Attribute::encode`
+    /// gives (or the same refusal).
+    #[test]
+    fn fixed_length_values_encode_as_attribute_encode(value in any::<i64>(), which in 0usize..4) {
+        let name = ["S-0-0040", "S-0-0051", "S-0-0135", "P-0-0019"][which];
+        let database = IdnDatabase::standard();
+        let Some(mut parameter) = database.get(idn(name)).cloned() else {
+            return Err(TestCaseError::fail(format!("{name} missing")));
+        };
+        let value = Value::Signed(value);
+        let encoded = parameter.attribute.encode(&value, parameter.max_len);
+        let before = parameter.words().to_vec();
+        let result = parameter.set_value(&value);
+        prop_assert_eq!(result.is_ok(), encoded.is_ok());
+        match encoded {
+            Ok(words) => prop_assert_eq!(parameter.words(), &words[..]),
+            Err(_) => prop_assert_eq!(parameter.words(), &before[..]),
+        }
+    }
+}
