@@ -105,7 +105,8 @@ impl Chip {
             if let Some(next) = self.next_internal {
                 debug_assert_eq!(next, self.compute_next_internal(), "stale next_internal");
                 if next.is_none_or(|n| n > t) {
-                    // Nothing due up to `t`.
+                    // Nothing due up to `t` but levels of untraced serial-port pins.
+                    self.serial_apply_pin_levels(t);
                     self.now = t;
                     return;
                 }
@@ -128,9 +129,9 @@ impl Chip {
                 // tick_at_or_after(a) <= bound  <=>  a <= instant(bound): no division per
                 // check.
                 let bound_at = self.clock.instant(bound).min(t);
-                while self.serial_next_event().is_some_and(|a| a <= bound_at) && self.serial_step(t)
-                {
-                }
+                while self.serial_next_loud_event().is_some_and(|a| a <= bound_at)
+                    && self.serial_step(t)
+                {}
                 match (engine_tick, tp_tick) {
                     (Some(e), tp) if tp.is_none_or(|k| e <= k) => {
                         let step = self.engine.step_tick(e);
@@ -157,9 +158,11 @@ impl Chip {
                 (Some(a), Some(b)) => Some(a.min(b)),
                 (a, b) => a.or(b),
             };
+            // What is left up to `t` only sets levels of untraced pins (IDLE, REACTN).
+            self.serial_apply_pin_levels(t);
             let next = match (
                 tick.map(|k| self.clock.instant(k)),
-                self.serial_next_event(),
+                self.serial_next_loud_event(),
             ) {
                 (Some(a), Some(b)) => Some(a.min(b)),
                 (a, b) => a.or(b),
@@ -182,7 +185,7 @@ impl Chip {
         };
         match (
             tick.map(|k| self.clock.instant(k)),
-            self.serial_next_event(),
+            self.serial_next_loud_event(),
         ) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
@@ -212,8 +215,10 @@ impl Chip {
 
     /// The earliest instant after which the chip may change on its own (without a line
     /// input, a pin input or a bus access): its next internal event (timing control,
-    /// watchdog, telegram processor, serial port) or the start of an output segment not yet
-    /// released. `None` when nothing is scheduled.
+    /// watchdog, telegram processor, a serial-port change of FIBBR, RDIST or a traced pin)
+    /// or the start of an output segment not yet released. `None` when nothing is
+    /// scheduled. Level changes of untraced IDLE / REACTN pins are not events: the chip
+    /// applies them when its time passes them.
     ///
     /// A simulation may use it as the lookahead of a conservative event loop: nothing this
     /// chip sends starts before this instant, so a chip `d` down the fibre can be advanced
@@ -235,6 +240,7 @@ impl Chip {
 
     /// Chooses which pins produce [`PinEvent`]s from now on.
     pub fn set_traced_pins(&mut self, pins: PinSet) {
+        self.touched();
         self.traced = pins;
     }
 

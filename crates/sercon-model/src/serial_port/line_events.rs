@@ -1,5 +1,10 @@
 //! The serial port's scheduled status changes (pins IDLE, REACTN; status bits FIBBR, RDIST),
 //! kept in time order and applied when the chip's time reaches them.
+//!
+//! Two queues: the status bits (FIBBR, RDIST raise interrupts and drive L_ERRN, so the chip
+//! applies them in time order with its other events) and the pin levels (IDLE, REACTN,
+//! which nothing else depends on: unless those pins are traced, the chip applies them in
+//! bulk when its time has passed them, without an event-loop turn each).
 
 use std::collections::VecDeque;
 
@@ -19,20 +24,39 @@ pub(crate) enum Change {
 }
 
 impl Change {
+    /// Whether this change only sets the level of pin IDLE or REACTN.
+    pub(crate) fn is_pin_level(self) -> bool {
+        matches!(self, Change::Idle(_) | Change::Reactn(_))
+    }
+
     /// Whether the receiver scheduled this change (and a collision may cancel it).
     pub(crate) fn is_receive(self) -> bool {
         !matches!(self, Change::Idle(_))
     }
 }
 
-/// Changes by instant; changes at the same instant keep the order they were scheduled in.
-/// A handful are pending at a time (a telegram's IDLE and REACTN edges), so a sorted
-/// queue beats a tree.
+/// Changes by instant; changes of one queue at the same instant keep the order they were
+/// scheduled in. A handful are pending at a time (a telegram's IDLE and REACTN edges), so
+/// sorted queues beat a tree.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct LineEvents {
-    queue: VecDeque<(Instant, Change)>,
+    /// FIBBR and RDIST changes.
+    status: VecDeque<(Instant, Change)>,
+    /// IDLE and REACTN changes.
+    pins: VecDeque<(Instant, Change)>,
     /// The RDIST value of the last applied change (the port's RDIST status).
     rdist_now: bool,
+}
+
+/// Inserts `(at, change)` into the time-ordered `queue`, after the entries at `at`.
+fn insert(queue: &mut VecDeque<(Instant, Change)>, at: Instant, change: Change) {
+    if queue.back().is_none_or(|(t, _)| *t <= at) {
+        // The usual case: changes are scheduled in time order.
+        queue.push_back((at, change));
+        return;
+    }
+    let idx = queue.partition_point(|(t, _)| *t <= at);
+    queue.insert(idx, (at, change));
 }
 
 impl LineEvents {
@@ -40,29 +64,41 @@ impl LineEvents {
     /// An RDIST change to the value RDIST already has at `at` is dropped: it would change
     /// nothing and only wake the chip (one is scheduled for every received segment).
     pub(crate) fn push(&mut self, at: Instant, change: Change) {
+        if change.is_pin_level() {
+            insert(&mut self.pins, at, change);
+            return;
+        }
         if let Change::Rdist(v) = change
             && self.rdist_at_end_if_last(at) == Some(v)
         {
             return;
         }
-        if self.queue.back().is_none_or(|(t, _)| *t <= at) {
-            // The usual case: changes are scheduled in time order.
-            self.queue.push_back((at, change));
-            return;
-        }
-        let idx = self.queue.partition_point(|(t, _)| *t <= at);
-        self.queue.insert(idx, (at, change));
+        insert(&mut self.status, at, change);
     }
 
     /// The instant of the earliest change.
     pub(crate) fn next_at(&self) -> Option<Instant> {
-        self.queue.front().map(|(t, _)| *t)
+        earliest(
+            self.status.front().map(|(t, _)| *t),
+            self.pins.front().map(|(t, _)| *t),
+        )
+    }
+
+    /// The instant of the earliest change to apply in time order: a status change, or any
+    /// change when `pins_loud` (IDLE or REACTN traced).
+    pub(crate) fn next_loud_at(&self, pins_loud: bool) -> Option<Instant> {
+        let status = self.status.front().map(|(t, _)| *t);
+        if pins_loud {
+            earliest(status, self.pins.front().map(|(t, _)| *t))
+        } else {
+            status
+        }
     }
 
     /// The RDIST value after every scheduled change, when no RDIST change is scheduled
     /// after `at` (`None` otherwise).
     fn rdist_at_end_if_last(&self, at: Instant) -> Option<bool> {
-        for (t, c) in self.queue.iter().rev() {
+        for (t, c) in self.status.iter().rev() {
             if let Change::Rdist(v) = c {
                 return (*t <= at).then_some(*v);
             }
@@ -70,14 +106,27 @@ impl LineEvents {
         Some(self.rdist_now)
     }
 
-    /// Removes and returns the earliest change if it is at or before `t`.
+    /// Removes and returns the earliest change if it is at or before `t` (status changes
+    /// first at equal instants; the two kinds do not depend on each other).
     pub(crate) fn pop_until(&mut self, t: Instant) -> Option<(Instant, Change)> {
-        if self.queue.front().is_some_and(|(at, _)| *at <= t) {
-            let next = self.queue.pop_front();
-            if let Some((_, Change::Rdist(v))) = next {
-                self.rdist_now = v;
-            }
-            next
+        let s = self.status.front().map(|(at, _)| *at).filter(|at| *at <= t);
+        let p = self.pins.front().map(|(at, _)| *at).filter(|at| *at <= t);
+        let next = match (s, p) {
+            (Some(a), Some(b)) if b < a => self.pins.pop_front(),
+            (Some(_), _) => self.status.pop_front(),
+            (None, Some(_)) => self.pins.pop_front(),
+            (None, None) => None,
+        };
+        if let Some((_, Change::Rdist(v))) = next {
+            self.rdist_now = v;
+        }
+        next
+    }
+
+    /// Removes and returns the earliest IDLE / REACTN change if it is at or before `t`.
+    pub(crate) fn pop_pin_until(&mut self, t: Instant) -> Option<(Instant, Change)> {
+        if self.pins.front().is_some_and(|(at, _)| *at <= t) {
+            self.pins.pop_front()
         } else {
             None
         }
@@ -86,14 +135,23 @@ impl LineEvents {
     /// Drops the receiver's changes at or after `t` (a collision cut the signal they came
     /// from).
     pub(crate) fn cancel_receive_from(&mut self, t: Instant) {
-        self.queue.retain(|(at, c)| *at < t || !c.is_receive());
+        self.status.retain(|(at, c)| *at < t || !c.is_receive());
+        self.pins.retain(|(at, c)| *at < t || !c.is_receive());
     }
 
     /// The last scheduled FIBBR value, if any is scheduled.
     pub(crate) fn last_fibbr(&self) -> Option<bool> {
-        self.queue.iter().rev().find_map(|(_, c)| match c {
+        self.status.iter().rev().find_map(|(_, c)| match c {
             Change::Fibbr(v) => Some(*v),
             _ => None,
         })
+    }
+}
+
+/// The earlier of two optional instants.
+fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
     }
 }

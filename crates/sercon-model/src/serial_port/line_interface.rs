@@ -29,7 +29,7 @@ impl Chip {
         // processor and changes for the serial port. The cached next internal instant is
         // kept up to date here when that is exact (see `line_input_next`).
         let cached = self.next_internal.take();
-        let serial_before = self.serial.next_event_at();
+        let serial_before = self.serial_next_loud_event();
         // A scratch list kept between inputs: no allocation per segment.
         let mut frames = std::mem::take(&mut self.rx_scratch);
         self.serial.line_input(seg, &mut frames);
@@ -61,7 +61,7 @@ impl Chip {
         serial_before: Option<Instant>,
         first_frame: Option<u64>,
     ) -> Option<Option<Instant>> {
-        let serial_after = self.serial.next_event_at();
+        let serial_after = self.serial_next_loud_event();
         let not_later = match (serial_after, serial_before) {
             (_, None) => true,
             (None, Some(_)) => false,
@@ -138,6 +138,7 @@ impl Chip {
     fn settle_serial(&mut self) {
         let now = self.now;
         while self.serial_step(now) {}
+        self.serial.apply_pin_levels(now);
     }
 
     /// Applies the serial port's changes at its earliest instant if that is at or before
@@ -148,7 +149,8 @@ impl Chip {
             self.serial.reactn(),
             self.serial.lerrn(),
         );
-        let Some((at, applied)) = self.serial.step(t) else {
+        let pins_loud = self.serial_pins_traced();
+        let Some((at, applied)) = self.serial.step(t, pins_loud) else {
             return false;
         };
         if !self.in_reset {
@@ -214,9 +216,25 @@ impl Chip {
         (s.rdist(), s.fibbr(), s.idle(), s.reactn())
     }
 
-    /// The next instant the serial port changes a status.
-    pub(crate) fn serial_next_event(&self) -> Option<Instant> {
-        self.serial.next_event_at()
+    /// Whether a serial-port pin (IDLE, TxD, REACTN) is traced: then its level changes
+    /// are applied in time order like the status changes.
+    fn serial_pins_traced(&self) -> bool {
+        self.traced.contains(Pin::Idle)
+            || self.traced.contains(Pin::TxD)
+            || self.traced.contains(Pin::Reactn)
+    }
+
+    /// The next instant the serial port changes something the chip must apply in time
+    /// order: FIBBR or RDIST (interrupts, L_ERRN), or a traced pin's level. Levels of
+    /// untraced IDLE / REACTN are applied when the chip's time has passed them
+    /// ([`Chip::serial_apply_pin_levels`]).
+    pub(crate) fn serial_next_loud_event(&self) -> Option<Instant> {
+        self.serial.next_loud_event_at(self.serial_pins_traced())
+    }
+
+    /// Applies the IDLE / REACTN level changes at or before `t`.
+    pub(crate) fn serial_apply_pin_levels(&mut self, t: Instant) {
+        self.serial.apply_pin_levels(t);
     }
 
     /// The next instant a serial-port change is observable: a traced pin (IDLE, REACTN,
@@ -229,7 +247,7 @@ impl Chip {
         for _ in 0..PROBE_STEPS {
             let before = (probe.idle(), probe.reactn(), probe.lerrn());
             let ints = (flags.pin_level(s, 0), flags.pin_level(s, 1));
-            let (at, applied) = probe.step(Instant::MAX)?;
+            let (at, applied) = probe.step(Instant::MAX, true)?;
             if !self.in_reset {
                 if applied.rdist_rose {
                     flags.lo |= INT_RDIST;

@@ -250,6 +250,27 @@ impl SerialPort {
         self.rx_log.take(out);
     }
 
+    /// The instant of the next change the chip applies in time order: FIBBR and RDIST
+    /// (and FIBBR's timeout), and IDLE / REACTN too when `pins_loud` (their pins traced).
+    pub(crate) fn next_loud_event_at(&self, pins_loud: bool) -> Option<Instant> {
+        match (self.events.next_loud_at(pins_loud), self.rx.fibbr_deadline) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// Applies the IDLE / REACTN changes at or before `t` (pin levels only).
+    pub(crate) fn apply_pin_levels(&mut self, t: Instant) {
+        while let Some((_, change)) = self.events.pop_pin_until(t) {
+            match change {
+                Change::Idle(l) => self.idle = l,
+                Change::Reactn(l) => self.reactn = l,
+                // Only pin-level changes are in that queue.
+                Change::Fibbr(_) | Change::Rdist(_) => {}
+            }
+        }
+    }
+
     /// The instant of the next scheduled status change (including FIBBR's timeout).
     pub(crate) fn next_event_at(&self) -> Option<Instant> {
         let deadline = self.rx.fibbr_deadline;
@@ -261,8 +282,17 @@ impl SerialPort {
 
     /// Applies the changes due at or before `t`, the earliest first; stops after one instant
     /// and returns it with what changed, or `None` when nothing is due.
-    pub(crate) fn step(&mut self, t: Instant) -> Option<(Instant, Applied)> {
-        let at = self.next_event_at().filter(|a| *a <= t)?;
+    ///
+    /// With `pins_loud` false, IDLE / REACTN changes do not count as an instant of their
+    /// own (they are applied with the next status change, or by
+    /// [`SerialPort::apply_pin_levels`]).
+    pub(crate) fn step(&mut self, t: Instant, pins_loud: bool) -> Option<(Instant, Applied)> {
+        let next = if pins_loud {
+            self.next_event_at()
+        } else {
+            self.next_loud_event_at(false)
+        };
+        let at = next.filter(|a| *a <= t)?;
         let mut applied = Applied {
             fibbr_rose: false,
             rdist_rose: false,
