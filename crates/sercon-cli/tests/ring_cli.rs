@@ -221,7 +221,8 @@ fn traces_log_pcap_vcd_transcript() {
 fn wrong_options_give_one_line_and_fail() {
     refused(&["ring", "--baud", "3"], "2, 4, 8 or 16");
     refused(&["ring", "--drives", "0"], "--drives");
-    refused(&["ring", "--drives", "9"], "--drives");
+    // sercos-telegrams.md: drive addresses 1–254.
+    refused(&["ring", "--drives", "255"], "--drives");
     refused(&["ring", "--variant", "999"], "--variant");
     refused(&["ring", "--cycle-us", "10"], "--cycle-us");
     refused(&["ring", "--seconds", "soon"], "--seconds");

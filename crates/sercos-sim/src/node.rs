@@ -33,6 +33,11 @@ pub(crate) struct Node {
     pub(crate) host_deadline: Option<Instant>,
     /// Levels of INT0, INT1 when the host last looked.
     pub(crate) ints: (bool, bool),
+    /// The last wake was for an interrupt pin change: if a pin is still active when the host
+    /// returns, it is woken once more (level-triggered INT0/INT1, 410B §2).
+    pub(crate) rewake: bool,
+    /// The current wake is such a second wake (it earns no further one).
+    pub(crate) rewaking: bool,
     /// Forwarded segments the simulation already knows of: (local start at the output,
     /// originating node).
     pub(crate) expect: VecDeque<(Instant, usize)>,
@@ -72,6 +77,8 @@ impl Node {
             off_windows: Vec::new(),
             host_deadline: None,
             ints: (false, false),
+            rewake: false,
+            rewaking: false,
             expect: VecDeque::new(),
             resume: None,
             last_out: None,
@@ -95,6 +102,7 @@ impl Node {
         let now = self.chip.now();
         let mut bus = NodeBus::new(&mut self.chip, self.cfg.bus_access);
         self.host_deadline = self.host.wake(&mut bus, now, why);
+        self.woke(why);
         self.repeating = repeats(&mut self.chip);
     }
 
@@ -121,12 +129,33 @@ impl Node {
                 int0: ints.0,
                 int1: ints.1,
             })
+        } else if self.rewake && self.interrupt_requested() {
+            self.rewake = false;
+            self.rewaking = true;
+            Some(Wake::Interrupt {
+                int0: ints.0,
+                int1: ints.1,
+            })
         } else if self.host_deadline.is_some_and(|d| d <= self.chip.now()) {
             self.host_deadline = None;
             Some(Wake::Deadline)
         } else {
             None
         }
+    }
+
+    /// After a wake for `why`: one more wake at most per pin change, in case a flag raised
+    /// after the handler's last read of 4H/5H keeps the pin active without a new edge
+    /// (level-triggered INT0/INT1; spec-notes "Ring simulation").
+    pub(crate) fn woke(&mut self, why: Wake) {
+        self.rewake = matches!(why, Wake::Interrupt { .. }) && !self.rewaking;
+        self.rewaking = false;
+    }
+
+    /// Whether INT0 or INT1 requests an interrupt now (410B §4.1 3H.0 INTFL0, 3H.3 INTFL1),
+    /// whatever the pins' polarity.
+    fn interrupt_requested(&mut self) -> bool {
+        self.chip.read_register(3) & 0b1001 != 0
     }
 
     /// The pins traced for the VCD.

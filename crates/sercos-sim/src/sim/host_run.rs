@@ -118,6 +118,7 @@ impl Simulation {
             node.host_busy = busy;
             node.host_deadline = deadline;
             node.repeating = repeats(&mut node.chip);
+            node.woke(why);
         }
         self.touch(j);
     }
