@@ -9,20 +9,16 @@
 mod session;
 mod value_parse;
 
-use std::path::PathBuf;
-
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, Subcommand, ValueEnum};
 use sercdrv::service_channel::{Request, Response};
-use sercon_cli::ring::{self, RingSpec};
-use sercon_regs::Variant;
+use sercon_cli::ring::RingSpec;
 use sercos_wire::attribute::{Attribute, DataLength, DisplayFormat, Value};
 use sercos_wire::idn::{Element, Idn};
 use sercos_wire::telegram::CommunicationPhase;
-use sercos_wire::time::BitRate;
 use serde_json::json;
 
-use crate::ring_cmd::VariantArg;
+use crate::ring_shape::RingShape;
 
 /// Prints a line on stdout; a closed pipe (`sercon idn list | head`) ends the output
 /// quietly instead of panicking as `println!` does.
@@ -62,23 +58,8 @@ pub struct RingOptions {
     /// The phase the ring is brought to before the access.
     #[arg(long, default_value = "4", value_parser = parse_phase)]
     phase: u8,
-    /// A full description of the ring (drives, IDN files, fibre lengths); the options
-    /// below override it.
-    #[arg(long, value_name = "ring.toml")]
-    config: Option<PathBuf>,
-    /// Number of emulated drives (addresses 1…N, up to 254: sercos-telegrams.md; a ring that
-    /// does not fit the master's RAM is refused with the layout's reason).
-    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=254))]
-    drives: Option<u8>,
-    /// Controller of every node.
-    #[arg(long, value_enum)]
-    variant: Option<VariantArg>,
-    /// Bit rate in Mbit/s: 2, 4, 8 or 16 (8 and 16 on the SERCON816 only).
-    #[arg(long, value_parser = parse_baud)]
-    baud: Option<BitRate>,
-    /// Communication cycle time tScyc in µs (S-0-0002).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(62..=65000))]
-    cycle_us: Option<u32>,
+    #[command(flatten)]
+    shape: RingShape,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -171,34 +152,9 @@ fn parse_phase(text: &str) -> Result<u8, String> {
     }
 }
 
-fn parse_baud(text: &str) -> Result<BitRate, String> {
-    text.parse::<u32>()
-        .ok()
-        .and_then(BitRate::from_mbit)
-        .ok_or_else(|| format!("{text:?} is not 2, 4, 8 or 16 (Mbit/s)"))
-}
-
 /// The ring of the config file (if any) with the options applied over it.
 fn spec_of(o: &RingOptions) -> Result<RingSpec> {
-    let mut spec = match &o.config {
-        Some(path) => ring::load_config(path)?,
-        None => RingSpec::default(),
-    };
-    if let Some(n) = o.drives {
-        spec.drives = RingSpec::with_drives(n);
-    }
-    if let Some(v) = o.variant {
-        spec.variant = match v {
-            VariantArg::S816 => Variant::Sercon816,
-            VariantArg::S410b => Variant::Sercon410b,
-        };
-    }
-    if let Some(b) = o.baud {
-        spec.bit_rate = b;
-    }
-    if let Some(c) = o.cycle_us {
-        spec.cycle_us = c;
-    }
+    let mut spec = o.shape.spec()?;
     // A tool access needs neither faults nor traces nor a motion run.
     spec.faults.clear();
     spec.traces = Default::default();

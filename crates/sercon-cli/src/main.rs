@@ -10,6 +10,7 @@ mod capture;
 mod idn_cmd;
 mod idn_text;
 mod ring_cmd;
+mod ring_shape;
 mod script;
 
 /// SERCOS interface tools: line captures, the SERCON controller model, simulated rings.

@@ -5,43 +5,17 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use sercon_cli::ring::{self, FaultSpec, RingSpec, RunResult, parse_duration};
-use sercon_regs::Variant;
-use sercos_wire::time::BitRate;
 
-/// The controller variant.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum VariantArg {
-    /// SERCON816.
-    #[value(name = "816")]
-    S816,
-    /// SERCON410B (2 and 4 Mbit/s).
-    #[value(name = "410b")]
-    S410b,
-}
+use crate::ring_shape::RingShape;
 
 /// Arguments of `sercon ring`.
 #[derive(Debug, Args)]
 pub struct RingArgs {
-    /// A full description of the ring (drives, IDN files, fibre lengths, faults, traces);
-    /// the options below override it.
-    #[arg(long, value_name = "ring.toml")]
-    config: Option<PathBuf>,
-    /// Number of emulated drives (addresses 1…N, up to 254: sercos-telegrams.md; a ring that
-    /// does not fit the master's RAM is refused with the layout's reason).
-    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=254))]
-    drives: Option<u8>,
-    /// Controller of every node.
-    #[arg(long, value_enum)]
-    variant: Option<VariantArg>,
-    /// Bit rate in Mbit/s: 2, 4, 8 or 16 (8 and 16 on the SERCON816 only).
-    #[arg(long, value_parser = parse_baud)]
-    baud: Option<BitRate>,
-    /// Communication cycle time tScyc in µs (S-0-0002).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(62..=65000))]
-    cycle_us: Option<u32>,
+    #[command(flatten)]
+    shape: RingShape,
     /// Seconds of phase-4 operation (e.g. 3, 0.5, or 1500ms).
     #[arg(long, value_parser = parse_seconds)]
     seconds: Option<sercos_wire::time::Duration>,
@@ -78,13 +52,6 @@ pub struct RingArgs {
     transcript: Option<PathBuf>,
 }
 
-fn parse_baud(text: &str) -> Result<BitRate, String> {
-    text.parse::<u32>()
-        .ok()
-        .and_then(BitRate::from_mbit)
-        .ok_or_else(|| format!("{text:?} is not 2, 4, 8 or 16 (Mbit/s)"))
-}
-
 fn parse_seconds(text: &str) -> Result<sercos_wire::time::Duration, String> {
     let with_unit = if text.bytes().all(|b| b.is_ascii_digit() || b == b'.') {
         format!("{text}s")
@@ -97,25 +64,7 @@ fn parse_seconds(text: &str) -> Result<sercos_wire::time::Duration, String> {
 
 /// The spec from the config file (if any) with the options applied over it.
 fn spec_of(args: &RingArgs) -> Result<RingSpec> {
-    let mut spec = match &args.config {
-        Some(path) => ring::load_config(path)?,
-        None => RingSpec::default(),
-    };
-    if let Some(n) = args.drives {
-        spec.drives = RingSpec::with_drives(n);
-    }
-    if let Some(v) = args.variant {
-        spec.variant = match v {
-            VariantArg::S816 => Variant::Sercon816,
-            VariantArg::S410b => Variant::Sercon410b,
-        };
-    }
-    if let Some(b) = args.baud {
-        spec.bit_rate = b;
-    }
-    if let Some(c) = args.cycle_us {
-        spec.cycle_us = c;
-    }
+    let mut spec = args.shape.spec()?;
     if let Some(s) = args.seconds {
         spec.run_for = s;
     }
