@@ -29,7 +29,10 @@ use sercos_wire::time::{Duration, Instant};
 const CYCLE: Duration = Duration::from_picos(62_500_000);
 const ONE_SECOND: Duration = Duration::from_secs(1);
 
-fn programmed_chip(traced: PinSet) -> Chip {
+/// 410B §4.1 0CH.0 MSTEN: with it the master also sends an MST at every cycle start (through
+/// the serial port); without it the chip runs its timing control only (CYCSTART, TINT0–3,
+/// CON_CLK, DIV_CLK), which is what the target is about.
+fn programmed_chip(traced: PinSet, msten: bool) -> Chip {
     let mut chip = Chip::new(ChipConfig::sercon816());
     chip.set_traced_pins(traced);
     let w = |chip: &mut Chip, a: u8, v: u16| chip.write_register(a, v);
@@ -47,13 +50,25 @@ fn programmed_chip(traced: PinSet) -> Chip {
     w(&mut chip, 0x20, 4); // NDIVCLK = 4, 1-active, DIVCLKMODE = 0
     w(&mut chip, 0x07, 0x1E00); // EN0_INT: INT_TIME0-3
     w(&mut chip, 0x03, 0x0002); // ENINT0
-    // 0CH: MSTEN | MSTMASTER | ENCONCLK | CYCSTART, NCYC = 0.
-    w(&mut chip, 0x0C, 0x0001 | 0x0002 | 0x0020 | 0x0400);
+    // 0CH: [MSTEN |] MSTMASTER | ENCONCLK | CYCSTART, NCYC = 0.
+    let msten = if msten { 0x0001 } else { 0 };
+    w(&mut chip, 0x0C, msten | 0x0002 | 0x0020 | 0x0400);
     chip
 }
 
 fn run_free(traced: PinSet) -> usize {
-    let mut chip = programmed_chip(traced);
+    run_free_with(traced, false)
+}
+
+/// Free running with MSTEN: the line output (an MST and filler a cycle) is taken every
+/// millisecond, as a simulator would.
+fn run_free_sending(traced: PinSet) -> usize {
+    run_free_with(traced, true)
+}
+
+fn run_free_with(traced: PinSet, msten: bool) -> usize {
+    let mut chip = programmed_chip(traced, msten);
+    let mut line = Vec::new();
     let mut events = Vec::new();
     let mut n = 0;
     let end = Instant::ZERO + ONE_SECOND;
@@ -65,13 +80,15 @@ fn run_free(traced: PinSet) -> usize {
         events.clear();
         chip.drain_pin_events(&mut events);
         n += events.len();
+        line.clear();
+        chip.take_line_output(&mut line);
     }
     n
 }
 
 /// A host that services INT0 every cycle: reads 5H and clears the flags it saw.
 fn run_with_host(traced: PinSet) -> usize {
-    let mut chip = programmed_chip(traced);
+    let mut chip = programmed_chip(traced, false);
     let mut events = Vec::new();
     let mut n = 0;
     let mut t = Instant::ZERO;
@@ -96,7 +113,9 @@ fn bench(c: &mut Criterion) {
     // INT0 rising once (free running, never cleared) or once a cycle plus its clear (host).
     let free = run_free(traced);
     let host = run_with_host(traced);
+    let sending = run_free_sending(traced);
     assert_eq!(free, 16_000 * 10 + 1, "free-running events in 1 s");
+    assert_eq!(sending, free, "the MSTs change no traced pin");
     assert_eq!(host, 16_000 * 12, "events with a host clearing INT0 in 1 s");
     eprintln!("events in 1 s: free running {free}, host clearing INT0 {host}");
     for (name, pins) in [("untraced", PinSet::EMPTY), ("traced", traced)] {
@@ -105,6 +124,9 @@ fn bench(c: &mut Criterion) {
         });
         g.bench_function(format!("host_acks_int0/{name}"), |b| {
             b.iter_batched(|| pins, run_with_host, BatchSize::SmallInput)
+        });
+        g.bench_function(format!("master_sending_msts/{name}"), |b| {
+            b.iter_batched(|| pins, run_free_sending, BatchSize::SmallInput)
         });
     }
     g.finish();
