@@ -694,17 +694,34 @@ impl Simulation {
             };
             // The chip's next internal event: cheaper to ask than the next observable
             // instant (no look-ahead probe), and every interrupt change is seen at once.
-            if lookahead == Lookahead::Events {
+            if lookahead == Lookahead::Events && !exact {
+                // Fast path: the forwarded copies the simulation expects (it carried them
+                // down the ring when they arrived, 410B §1 "The slaves regenerate and
+                // repeat their received data") need no wake; they are taken and dropped
+                // at the next one. Own output and anything unexpected still wake the node.
+                cand(node.chip.next_internal_event_at());
+                cand(node.chip.next_own_line_output_at());
+                let mut expected = node.expect.iter().map(|e| e.0).peekable();
+                for start in node.chip.background_output_starts() {
+                    while expected.next_if(|e| *e < start).is_some() {}
+                    if expected.next_if_eq(&start).is_none() {
+                        cand(Some(start));
+                        break;
+                    }
+                }
+            } else if lookahead == Lookahead::Events {
                 cand(node.chip.next_event_at());
             } else {
                 cand(node.chip.next_deadline());
             }
             cand(node.host_deadline);
             cand(node.resume.filter(|r| *r > chip_now));
-            let out = node.chip.next_line_output_at();
-            let expected = node.expect.front().map(|e| e.0);
-            if exact || out != expected {
-                cand(out);
+            if exact || lookahead != Lookahead::Events {
+                let out = node.chip.next_line_output_at();
+                let expected = node.expect.front().map(|e| e.0);
+                if exact || out != expected {
+                    cand(out);
+                }
             }
         }
         let global = next.map(|l| node.clock.to_global(l).max(now));
