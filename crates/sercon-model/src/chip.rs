@@ -254,8 +254,20 @@ impl Chip {
     /// for the skipped events. Not after `next_event_at()` when both are `Some`.
     pub fn next_line_send_at(&self) -> Option<Instant> {
         let output = self.serial.next_output_at();
+        match (self.next_send_event_at(), output) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// [`Chip::next_line_send_at`] without the queued output: a lower bound of the next
+    /// internal event at which the chip can start a telegram (`None` in reset or when no
+    /// such event is scheduled). With [`Chip::next_own_line_output_at`] and
+    /// [`Chip::background_output_starts`], what a simulation needs to wake a chip whose
+    /// interrupt pins nobody follows.
+    pub fn next_send_event_at(&self) -> Option<Instant> {
         if self.in_reset {
-            return output;
+            return None;
         }
         // 410B §4.2.1: telegrams start at MCLK ticks of the telegram processor; a master's
         // MST at the timing control's cycle start (§4.1 0CH.1 MSTMASTER).
@@ -271,10 +283,7 @@ impl Chip {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         };
-        match (tick.map(|k| self.clock.instant(k)), output) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        tick.map(|k| self.clock.instant(k))
     }
 
     /// [`Chip::next_event_at`] without the output: the chip's next internal event (timing
