@@ -2,40 +2,16 @@
 //! following velocity commands by the control word (sercos-telegrams.md, MDT control word
 //! bits 15–13; AT status word bits 15–13, 5).
 
-use sercos_drive::database::IdnDatabase;
+mod support;
+
 use sercos_drive::drive::EmulatedDrive;
-use sercos_wire::idn::{Element, Idn};
+use sercos_wire::idn::Element;
 use sercos_wire::telegram::{CommunicationPhase, ReadyToOperate};
 use sercos_wire::time::{Duration, Instant};
-
-fn idn(text: &str) -> Idn {
-    text.parse().unwrap_or(Idn::from_raw(0xFFFF))
-}
-
-fn write(drive: &mut EmulatedDrive, name: &str, words: &[u16]) {
-    let result = drive
-        .database_mut()
-        .write(idn(name), Element::OperationData, words);
-    assert_eq!(result, Ok(()), "{name}");
-}
+use support::{idn, write};
 
 fn phased_up() -> EmulatedDrive {
-    let mut drive = EmulatedDrive::new(IdnDatabase::standard(), Instant::ZERO);
-    for phase in [CommunicationPhase::Phase1, CommunicationPhase::Phase2] {
-        assert!(drive.set_phase(phase).is_ok());
-    }
-    for (name, words) in [
-        ("S-0-0006", &[92][..]),
-        ("S-0-0089", &[1782]),
-        ("S-0-0008", &[1965]),
-        ("S-0-0007", &[1698]),
-        ("S-0-0010", &[32]),
-        ("S-0-0015", &[7]),
-        ("S-0-0016", &[6, 6, 0x000B, 0x0033, 0x8013]),
-        ("S-0-0024", &[2, 2, 0x0024]),
-    ] {
-        write(&mut drive, name, words);
-    }
+    let mut drive = support::in_phase_2_with(&support::CAPTURE_TELEGRAM);
     // sercos-facts.md: phase 3 only after S-0-0127 executed.
     assert!(drive.set_phase(CommunicationPhase::Phase4).is_err());
     assert!(drive.set_phase(CommunicationPhase::Phase3).is_err());

@@ -2,46 +2,24 @@
 //! the same instant, a diagnostic message (S-0-0095, sercos-facts.md "IDNs") rewritten with
 //! the text it already holds, fixed-length feedback encoded into the words held.
 
+mod support;
+
 use proptest::prelude::*;
 use sercos_drive::database::IdnDatabase;
 use sercos_drive::drive::EmulatedDrive;
 use sercos_drive::parameter::Parameter;
 use sercos_wire::attribute::Value;
-use sercos_wire::idn::{Element, Idn};
+use sercos_wire::idn::Idn;
 use sercos_wire::telegram::{CommunicationPhase, ReadyToOperate};
 use sercos_wire::time::{Duration, Instant};
+use support::{idn, write};
 
 const DIAGNOSTIC_MESSAGE: Idn = Idn::from_raw(95);
-
-fn idn(text: &str) -> Idn {
-    text.parse().unwrap_or(Idn::from_raw(0xFFFF))
-}
-
-fn write(drive: &mut EmulatedDrive, name: &str, words: &[u16]) {
-    let result = drive
-        .database_mut()
-        .write(idn(name), Element::OperationData, words);
-    assert_eq!(result, Ok(()), "{name}");
-}
 
 /// A drive in phase 4 with telegram type 2 (MDT S-0-0036, AT S-0-0040; Beckhoff AX2000,
 /// IDN 15) and velocity control (S-0-0032 = 2).
 fn phase_4_drive() -> EmulatedDrive {
-    let mut drive = EmulatedDrive::new(IdnDatabase::standard(), Instant::ZERO);
-    for phase in [CommunicationPhase::Phase1, CommunicationPhase::Phase2] {
-        assert!(drive.set_phase(phase).is_ok());
-    }
-    for (name, words) in [
-        ("S-0-0006", &[92][..]),
-        ("S-0-0089", &[1782]),
-        ("S-0-0008", &[1965]),
-        ("S-0-0007", &[1698]),
-        ("S-0-0010", &[32]),
-        ("S-0-0015", &[2]),
-        ("S-0-0032", &[2]),
-    ] {
-        write(&mut drive, name, words);
-    }
+    let mut drive = support::in_phase_2_with(&[("S-0-0015", &[2]), ("S-0-0032", &[2])]);
     write(&mut drive, "S-0-0127", &[3]);
     assert!(drive.set_phase(CommunicationPhase::Phase3).is_ok());
     write(&mut drive, "S-0-0127", &[0]);

@@ -3,43 +3,16 @@
 //! a check passed until a parameter the check read is written or the phase drops
 //! (docs/spec-notes.md, "Driver slave and drive node").
 
-use sercos_drive::database::IdnDatabase;
+mod support;
+
 use sercos_drive::drive::EmulatedDrive;
 use sercos_drive::procedure::CommandStatus;
-use sercos_wire::idn::{Element, Idn};
 use sercos_wire::telegram::CommunicationPhase;
-use sercos_wire::time::Instant;
-
-fn idn(text: &str) -> Idn {
-    text.parse().unwrap_or(Idn::from_raw(0xFFFF))
-}
-
-fn write(drive: &mut EmulatedDrive, name: &str, words: &[u16]) {
-    let result = drive
-        .database_mut()
-        .write(idn(name), Element::OperationData, words);
-    assert_eq!(result, Ok(()), "{name}");
-}
+use support::{idn, write};
 
 /// A drive in phase 2 with the captures' timing and telegram configuration for drive 1.
 fn configured() -> EmulatedDrive {
-    let mut drive = EmulatedDrive::new(IdnDatabase::standard(), Instant::ZERO);
-    for phase in [CommunicationPhase::Phase1, CommunicationPhase::Phase2] {
-        assert!(drive.set_phase(phase).is_ok());
-    }
-    for (name, words) in [
-        ("S-0-0006", &[92][..]),
-        ("S-0-0089", &[1782]),
-        ("S-0-0008", &[1965]),
-        ("S-0-0007", &[1698]),
-        ("S-0-0010", &[32]),
-        ("S-0-0015", &[7]),
-        ("S-0-0016", &[6, 6, 0x000B, 0x0033, 0x8013]),
-        ("S-0-0024", &[2, 2, 0x0024]),
-    ] {
-        write(&mut drive, name, words);
-    }
-    drive
+    support::in_phase_2_with(&support::CAPTURE_TELEGRAM)
 }
 
 // captures (`sercon capture transcript`): S-0-0127 = 3, poll, = 0 in phase 2, then phase 3;
