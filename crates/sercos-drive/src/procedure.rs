@@ -26,37 +26,27 @@ pub const SIMULATED_FAULT: Idn = Idn::from_raw(0x8003);
 /// P-0-0002, bit rate in Mbit/s (the line's rate is set by a switch, not by an IDN).
 pub const BIT_RATE: Idn = Idn::from_raw(0x8002);
 
-/// The IDNs S-0-0127 reads: timing (S-0-0001…-0010, -0089, -0090), the telegram
-/// configuration (S-0-0015, -0016, -0024) and the bit rate. A write of one of them after
-/// the check makes the drive forget that it passed (docs/spec-notes.md, "Driver slave and
-/// drive node": a check passed is remembered until a parameter it checked changes).
-pub const PHASE_3_CHECKED: [Idn; 16] = [
-    Idn::from_raw(1),
-    Idn::from_raw(2),
-    Idn::from_raw(3),
-    Idn::from_raw(4),
-    Idn::from_raw(5),
-    Idn::from_raw(6),
-    Idn::from_raw(7),
-    Idn::from_raw(8),
-    Idn::from_raw(9),
-    Idn::from_raw(10),
-    Idn::from_raw(15),
-    Idn::from_raw(16),
-    Idn::from_raw(24),
-    Idn::from_raw(89),
-    Idn::from_raw(90),
-    BIT_RATE,
-];
+/// The IDNs S-0-0127 reads: the standard ones every slave knows
+/// ([`sercdrv::slave::PHASE_3_CHECKED`]: timing S-0-0001…-0010, -0089, -0090, telegram
+/// configuration S-0-0015, -0016, -0024) and this drive's bit rate. A write of one of them
+/// after the check makes the drive forget that it passed (docs/spec-notes.md, "Driver slave
+/// and drive node": a check passed is remembered until a parameter it checked changes).
+pub const PHASE_3_CHECKED: [Idn; 16] = with_bit_rate(sercdrv::slave::PHASE_3_CHECKED);
 
 /// The IDNs S-0-0128 reads: the primary operation mode S-0-0032 and the telegram
 /// configuration (S-0-0015, -0016, -0024).
-pub const PHASE_4_CHECKED: [Idn; 4] = [
-    Idn::from_raw(32),
-    Idn::from_raw(15),
-    Idn::from_raw(16),
-    Idn::from_raw(24),
-];
+pub const PHASE_4_CHECKED: [Idn; 4] = sercdrv::slave::PHASE_4_CHECKED;
+
+/// `standard` followed by [`BIT_RATE`].
+const fn with_bit_rate(standard: [Idn; 15]) -> [Idn; 16] {
+    let mut all = [BIT_RATE; 16];
+    let mut i = 0;
+    while i < standard.len() {
+        all[i] = standard[i];
+        i += 1;
+    }
+    all
+}
 
 /// The parameters transition check `check` reads (empty for other commands).
 pub fn checked_by(check: Idn) -> &'static [Idn] {

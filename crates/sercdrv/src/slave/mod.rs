@@ -35,9 +35,9 @@ pub use device::{CyclicLengths, DeviceRefusal, SlaveDevice};
 pub use error::SlaveError;
 pub use events::{PhaseRefusal, SlaveDriverEvent};
 pub use parameters::{
-    AT_START, CYCLE_TIME, MDT_LENGTH, MDT_POSITION, MDT_START, PHASE_3_CHECK, PHASE_4_CHECK,
-    checked_by, command_executed, command_status, cyclic_timing, noncyclic_plan, noncyclic_timing,
-    read_number,
+    AT_START, CYCLE_TIME, MDT_LENGTH, MDT_POSITION, MDT_START, PHASE_3_CHECK, PHASE_3_CHECKED,
+    PHASE_4_CHECK, PHASE_4_CHECKED, checked_by, command_executed, command_status, cyclic_timing,
+    noncyclic_plan, noncyclic_timing, read_number,
 };
 
 use sercon_regs::host::{HostProgram, Wake};

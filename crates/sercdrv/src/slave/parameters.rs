@@ -34,38 +34,42 @@ pub const PHASE_4_CHECK: Idn = Idn::from_raw(128);
 /// error bit 3 (spec-notes "IDN attributes ... emulated drive": 0007H).
 const COMMAND_EXECUTED: u16 = 0x0007;
 
-/// The parameters transition check `check` reads (S-0-0127: the timing S-0-0001…-0010,
-/// -0089, -0090, the telegram configuration S-0-0015/-0016/-0024; S-0-0128: S-0-0032 and
-/// the telegram configuration), empty for other commands. A write of one of them after the
-/// check passed makes the slave forget the pass (docs/spec-notes.md, "Driver slave and
-/// drive node").
+/// The standard parameters S-0-0127 reads: the timing S-0-0001…-0010, -0089, -0090 and the
+/// telegram configuration S-0-0015/-0016/-0024 (sercos-facts.md, timing parameters).
+pub const PHASE_3_CHECKED: [Idn; 15] = [
+    Idn::from_raw(1),
+    Idn::from_raw(2),
+    Idn::from_raw(3),
+    Idn::from_raw(4),
+    Idn::from_raw(5),
+    Idn::from_raw(6),
+    Idn::from_raw(7),
+    Idn::from_raw(8),
+    Idn::from_raw(9),
+    Idn::from_raw(10),
+    Idn::from_raw(15),
+    Idn::from_raw(16),
+    Idn::from_raw(24),
+    Idn::from_raw(89),
+    Idn::from_raw(90),
+];
+
+/// The standard parameters S-0-0128 reads: the primary operation mode S-0-0032 and the
+/// telegram configuration S-0-0015/-0016/-0024.
+pub const PHASE_4_CHECKED: [Idn; 4] = [
+    Idn::from_raw(32),
+    Idn::from_raw(15),
+    Idn::from_raw(16),
+    Idn::from_raw(24),
+];
+
+/// The parameters transition check `check` reads ([`PHASE_3_CHECKED`], [`PHASE_4_CHECKED`]),
+/// empty for other commands. A write of one of them after the check passed makes the slave
+/// forget the pass (docs/spec-notes.md, "Driver slave and drive node").
 pub fn checked_by(check: Idn) -> &'static [Idn] {
-    const PHASE_3: [Idn; 15] = [
-        Idn::from_raw(1),
-        Idn::from_raw(2),
-        Idn::from_raw(3),
-        Idn::from_raw(4),
-        Idn::from_raw(5),
-        Idn::from_raw(6),
-        Idn::from_raw(7),
-        Idn::from_raw(8),
-        Idn::from_raw(9),
-        Idn::from_raw(10),
-        Idn::from_raw(15),
-        Idn::from_raw(16),
-        Idn::from_raw(24),
-        Idn::from_raw(89),
-        Idn::from_raw(90),
-    ];
-    const PHASE_4: [Idn; 4] = [
-        Idn::from_raw(32),
-        Idn::from_raw(15),
-        Idn::from_raw(16),
-        Idn::from_raw(24),
-    ];
     match check {
-        PHASE_3_CHECK => &PHASE_3,
-        PHASE_4_CHECK => &PHASE_4,
+        PHASE_3_CHECK => &PHASE_3_CHECKED,
+        PHASE_4_CHECK => &PHASE_4_CHECKED,
         _ => &[],
     }
 }
