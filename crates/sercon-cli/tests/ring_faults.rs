@@ -194,3 +194,23 @@ fn an_unsent_command_would_be_counted() {
         vec![1234]
     );
 }
+
+// Task mst3 (spec-notes "MST window in whole µs"): on an intact ring no drive counts an MST
+// error (410B §4.2 word 10 NMSTERR) through phases 0–4, also at the switch from phase 2 to
+// 3, where the phase byte's stuffed bits move the MST's end by one bit time. The defaults
+// (16 Mbit/s, 1 ms) are the ring where it was seen.
+#[test]
+fn intact_ring_counts_no_mst_error_through_the_phase_up() {
+    let spec = RingSpec {
+        run_for: Duration::from_millis(50),
+        ..RingSpec::default()
+    };
+    let r = ring::run(&spec, &mut |_| {}).expect("the ring runs").report;
+    assert_eq!(r.result, RunResult::Phase4);
+    assert!(!r.drives.is_empty());
+    for d in &r.drives {
+        assert_eq!(d.phase, 4, "drive {}", d.address);
+        assert_eq!(d.mst_errors, 0, "drive {} NMSTERR", d.address);
+    }
+    assert_eq!(lost_msts_between(&r, 0.0, f64::MAX), Vec::<u8>::new());
+}

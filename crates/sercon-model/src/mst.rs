@@ -101,8 +101,24 @@ pub(crate) fn mst_end(chip: &mut Chip, tick: u64, frame: &RxFrame) {
         tp::start_block(chip, tick, block);
     }
     // The next MST is due one cycle later, at the latest JTSCYC2 after that.
-    chip.tp.mst.deadline =
-        (tscyc > 0).then(|| tick.saturating_add(tscyc.saturating_add(j2).saturating_mul(period)));
+    chip.tp.mst.deadline = (tscyc > 0).then(|| window_close(tick, tscyc, j2, period));
+}
+
+/// The last MCLK tick at which an MST may end and still be in time after an MST that
+/// ended at `last`: while fewer than TSCYC + JTSCYC2 + 1 whole µs have passed. The chip
+/// times the MST in whole µs of its time base, as the INT_MSTLATE check above does, so
+/// an MST that moves by less than a µs (e.g. one stuffed bit more when the phase byte
+/// changes) is still the MST of its cycle, not a missing one.
+// 410B §4.1 16H JTSCYC2 "tolerance after TSCYC" and §4.2 word 10 NMSTERR; spec-notes
+// "MST window in whole µs" (task mst3).
+fn window_close(last: u64, tscyc: u64, j2: u64, period: u64) -> u64 {
+    last.saturating_add(
+        tscyc
+            .saturating_add(j2)
+            .saturating_add(1)
+            .saturating_mul(period),
+    )
+    .saturating_sub(1)
 }
 
 /// No MST arrived by the deadline at `tick` (slave).

@@ -129,3 +129,26 @@ fn mst_loss_and_late_mst_on_the_line_on_both_variants() {
         assert_eq!(lo & (1 << 9), 0, "{variant:?} no INT_MSTMIS");
     }
 }
+
+#[test]
+fn phase_byte_change_shifting_the_mst_end_by_a_bit_is_not_a_missing_mst() {
+    // Task mst3, spec-notes "MST window in whole µs": the MST of phase 3 carries one
+    // stuffed bit more than that of phase 2, so it ends one bit time (< 1 µs) later than
+    // TSCYC after the phase 2 MST. The chip times the MST in whole µs (410B §4.1 16H
+    // JTSCYC2, 4H.8 INT_MSTLATE), so it is on time: NMSTERR (410B §4.2 word 10) stays 0
+    // and the slave follows PHAS1 (0AH, 0CH.3 COMBLK1) — here with JTSCYC2 = 0.
+    for variant in Variant::ALL {
+        let mut ring = mst_ring_on(variant, 2);
+        ring.slave.write(Register::Phas, 0x0302);
+        ring.slave.write(Register::Jtscyc2, 0);
+        ring.run_to(us(450));
+        assert_eq!(ring.slave.read(Register::PhasRec) & 0xFF, 2, "{variant:?}");
+        ring.master.write(Register::Phas, 0xFF03);
+        ring.run_to(us(850));
+        assert_eq!(ring.slave.read(Register::PhasRec) & 0xFF, 3, "{variant:?}");
+        let lo = ring.slave.read(Register::IntFlagsLo);
+        // No INT_PHASERR (6), INT_MSTEARLY (7), INT_MSTLATE (8), INT_MSTMIS (9).
+        assert_eq!(lo & (0b1111 << 6), 0, "{variant:?} {lo:04x}");
+        assert_eq!(ring.slave.read_ram(10), 0, "{variant:?} NMSTERR");
+    }
+}
