@@ -109,8 +109,8 @@ pub(crate) fn mst_end(chip: &mut Chip, tick: u64, frame: &RxFrame) {
 /// times the MST in whole µs of its time base, as the INT_MSTLATE check above does, so
 /// an MST that moves by less than a µs (e.g. one stuffed bit more when the phase byte
 /// changes) is still the MST of its cycle, not a missing one.
-// 410B §4.1 16H JTSCYC2 "tolerance after TSCYC" and §4.2 word 10 NMSTERR; spec-notes
-// "MST window in whole µs" (task mst3).
+// 410B §4.1 16H JTSCYC2 "Receive time window for MST 2" (µs, spec-notes "MST window")
+// and §4.2 word 10 NMSTERR; spec-notes "MST window in whole µs" (task mst3).
 fn window_close(last: u64, tscyc: u64, j2: u64, period: u64) -> u64 {
     last.saturating_add(
         tscyc
