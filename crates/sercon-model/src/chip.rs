@@ -238,69 +238,6 @@ impl Chip {
         }
     }
 
-    /// The send horizon: a lower bound of the first instant at which the chip can start to
-    /// put something on its line without an input (a line input, a pin, a bus access):
-    /// the start of an output segment not yet released, the start of the current transmit
-    /// telegram, or the next event that can lead to one. Unlike [`Chip::next_event_at`]
-    /// it skips the events after which nothing can be sent at once: the end of a
-    /// transmission, the opening of a receive window, the serial port's status changes
-    /// (FIBBR, RDIST, IDLE, REACTN), and a SERCOS slave's timing-control ticks (a slave's
-    /// blocks start with the MST it receives, 410B §4.1 0CH.0-1 MSTEN/MSTMASTER). Those
-    /// events still happen inside [`Chip::advance_to`]; interrupt pins are not covered
-    /// (see [`Chip::next_deadline`]).
-    ///
-    /// A conservative event loop may advance a chip `d` down the fibre to just before
-    /// `next_line_send_at() + d` without missing an input, and needs no round of its own
-    /// for the skipped events. Not after `next_event_at()` when both are `Some`.
-    pub fn next_line_send_at(&self) -> Option<Instant> {
-        let output = self.serial.next_output_at();
-        match (self.next_send_event_at(), output) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
-    }
-
-    /// [`Chip::next_line_send_at`] without the queued output: a lower bound of the next
-    /// internal event at which the chip can start a telegram (`None` in reset or when no
-    /// such event is scheduled). With [`Chip::next_own_line_output_at`] and
-    /// [`Chip::background_output_starts`], what a simulation needs to wake a chip whose
-    /// interrupt pins nobody follows.
-    pub fn next_send_event_at(&self) -> Option<Instant> {
-        if self.in_reset {
-            return None;
-        }
-        // 410B §4.2.1: telegrams start at MCLK ticks of the telegram processor; a master's
-        // MST at the timing control's cycle start (§4.1 0CH.1 MSTMASTER).
-        let engine = if self.engine.s.is_sercos_slave() {
-            None
-        } else {
-            match self.engine.next_memo {
-                Some(memo) => memo,
-                None => self.engine.next_tick(),
-            }
-        };
-        let tick = match (engine, crate::telegram_processor::next_send_tick(self)) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        };
-        tick.map(|k| self.clock.instant(k))
-    }
-
-    /// [`Chip::next_event_at`] without the output: the chip's next internal event (timing
-    /// control, watchdog, telegram processor, a serial-port change of FIBBR, RDIST or a
-    /// traced pin), `None` in reset or when nothing is scheduled. With
-    /// [`Chip::next_own_line_output_at`] and [`Chip::background_output_starts`] a
-    /// simulation can leave out the output segments it does not need to be woken for.
-    pub fn next_internal_event_at(&self) -> Option<Instant> {
-        if self.in_reset {
-            return None;
-        }
-        match self.next_internal {
-            Some(cached) => cached,
-            None => self.compute_next_internal(),
-        }
-    }
-
     /// Chooses which pins produce [`PinEvent`]s from now on.
     pub fn set_traced_pins(&mut self, pins: PinSet) {
         self.touched();

@@ -56,10 +56,6 @@ pub(crate) struct Node {
     /// The pending wake event.
     pub(crate) wake: Option<(Instant, EventHandle)>,
     /// Index in the VCD, if traced.
-    /// The host does nothing on [`crate::host::Wake::Interrupt`] (set by
-    /// [`crate::sim::Simulation::set_quiet_host`]): on the fast path the node need not be
-    /// woken for chip-internal events after which it cannot send.
-    pub(crate) quiet_host: bool,
     pub(crate) vcd: Option<usize>,
     /// The host is running (or has not started yet): it is not woken again meanwhile.
     pub(crate) host_busy: bool,
@@ -92,7 +88,6 @@ impl Node {
             repeating: false,
             wake: None,
             vcd: None,
-            quiet_host: false,
             host_busy: false,
         }
     }

@@ -108,12 +108,7 @@ pub fn bytes_per_cycle(ring: &StaticRing) -> u64 {
 /// Builds the scenario's simulation and runs it for a warm-up cycle.
 pub fn prepare(s: &Scenario) -> Result<Simulation, SimError> {
     let (cfg, hosts, _) = s.ring.build()?;
-    let nodes = cfg.nodes.len();
     let mut sim = Simulation::new(cfg, hosts)?;
-    // Static rings: every host is a `StaticImageHost` (configuration at start, then idle).
-    for j in 0..nodes {
-        sim.set_quiet_host(j, true);
-    }
     let cycle = Duration::from_micros(u64::from(s.ring.cycle_us));
     sim.run_until(Instant::ZERO + cycle)?;
     Ok(sim)

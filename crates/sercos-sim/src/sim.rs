@@ -256,20 +256,6 @@ impl Simulation {
         self.lookahead = l;
     }
 
-    /// Declares that node `j`'s host does nothing on [`crate::host::Wake::Interrupt`] and
-    /// has no deadline of its own after the start (e.g. [`crate::host::StaticImageHost`]).
-    /// With the fast delivery and [`Lookahead::Events`], such a node (without a VCD trace)
-    /// is then woken only when its chip can send ([`Chip::next_send_event_at`]), not at
-    /// every internal event; its interrupt wakes come at its next wake instead. The traces
-    /// stay the same. An unknown `j` is ignored.
-    ///
-    /// [`Chip::next_send_event_at`]: sercon_model::Chip::next_send_event_at
-    pub fn set_quiet_host(&mut self, j: usize, quiet: bool) {
-        if let Some(node) = self.nodes.get_mut(j) {
-            node.quiet_host = quiet;
-        }
-    }
-
     /// The current simulation time.
     pub fn now(&self) -> Instant {
         self.now
@@ -708,40 +694,17 @@ impl Simulation {
             };
             // The chip's next internal event: cheaper to ask than the next observable
             // instant (no look-ahead probe), and every interrupt change is seen at once.
-            if lookahead == Lookahead::Events && !exact {
-                // Fast path: the forwarded copies the simulation expects (it carried them
-                // down the ring when they arrived, 410B §1 "The slaves regenerate and
-                // repeat their received data") need no wake; they are taken and dropped
-                // at the next one. Own output and anything unexpected still wake the node.
-                if node.quiet_host && node.vcd.is_none() {
-                    // Nobody follows this node's interrupt pins or traces its pins: only
-                    // the events after which the chip can send matter.
-                    cand(node.chip.next_send_event_at());
-                } else {
-                    cand(node.chip.next_internal_event_at());
-                }
-                cand(node.chip.next_own_line_output_at());
-                let mut expected = node.expect.iter().map(|e| e.0).peekable();
-                for start in node.chip.background_output_starts() {
-                    while expected.next_if(|e| *e < start).is_some() {}
-                    if expected.next_if_eq(&start).is_none() {
-                        cand(Some(start));
-                        break;
-                    }
-                }
-            } else if lookahead == Lookahead::Events {
+            if lookahead == Lookahead::Events {
                 cand(node.chip.next_event_at());
             } else {
                 cand(node.chip.next_deadline());
             }
             cand(node.host_deadline);
             cand(node.resume.filter(|r| *r > chip_now));
-            if exact || lookahead != Lookahead::Events {
-                let out = node.chip.next_line_output_at();
-                let expected = node.expect.front().map(|e| e.0);
-                if exact || out != expected {
-                    cand(out);
-                }
+            let out = node.chip.next_line_output_at();
+            let expected = node.expect.front().map(|e| e.0);
+            if exact || out != expected {
+                cand(out);
             }
         }
         let global = next.map(|l| node.clock.to_global(l).max(now));

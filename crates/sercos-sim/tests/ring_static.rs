@@ -7,7 +7,6 @@ mod ring_support;
 use ring_support::*;
 use sercon_model::serial_port::REPEATER_LATENCY_BITS;
 use sercon_regs::{Register, SerconBus};
-use sercos_sim::sim::Simulation;
 use sercos_sim::static_ring::{StaticRing, at_pattern, mdt_pattern};
 use sercos_sim::trace::SegmentId;
 use sercos_sim::{Delivery, Fault, FaultKind};
@@ -195,92 +194,6 @@ fn fast_equals_exact_at_master_input(slaves: usize, faults: Vec<Fault>, until: I
         String::from_utf8_lossy(&logs[0]),
         String::from_utf8_lossy(&logs[1])
     );
-}
-
-/// [`fast_equals_exact_at_master_input`] with every host declared quiet
-/// (`Simulation::set_quiet_host`: static image hosts), whose nodes then wake only when their
-/// chips can send: the same logs on the master's input and on slave 1's input fibre as the
-/// exact path, no more late or out-of-order deliveries, and fewer events than without.
-fn quiet_fast_equals_exact(slaves: usize, faults: Vec<Fault>, until: Instant) {
-    for segment in [slaves, 0] {
-        let mut runs = Vec::new();
-        for (delivery, quiet) in [
-            (Delivery::Exact, false),
-            (Delivery::Fast, false),
-            (Delivery::Fast, true),
-        ] {
-            let mut ring = StaticRing::new(slaves, 250);
-            ring.delivery = delivery;
-            ring.fibre_m = 30;
-            ring.at_words = 2;
-            ring.mdt_words = 2;
-            let (mut cfg, hosts, _) = build(&ring);
-            cfg.traces.log_segment = Some(SegmentId(segment as u16));
-            cfg.faults = faults.clone();
-            let nodes = cfg.nodes.len();
-            let mut sim = Simulation::new(cfg, hosts).expect("valid configuration");
-            for j in 0..nodes {
-                sim.set_quiet_host(j, quiet);
-            }
-            sim.run_until(until).expect("runs");
-            let stats = sim.stats();
-            runs.push((sim.finish().expect("traces").log, stats));
-        }
-        let (exact, _) = &runs[0];
-        let (_, loud) = &runs[1];
-        let (quiet_log, quiet) = &runs[2];
-        // At least the MST and MDT of every cycle.
-        assert!(parse_log(exact).len() > 4);
-        assert_eq!(
-            String::from_utf8_lossy(exact),
-            String::from_utf8_lossy(quiet_log)
-        );
-        assert!(quiet.late <= loud.late, "{quiet:?} vs {loud:?}");
-        assert!(
-            quiet.out_of_order <= loud.out_of_order,
-            "{quiet:?} vs {loud:?}"
-        );
-        assert!(quiet.events < loud.events, "{quiet:?} vs {loud:?}");
-    }
-}
-
-#[test]
-fn quiet_hosts_on_the_fast_path_give_the_exact_trace() {
-    quiet_fast_equals_exact(12, Vec::new(), us(1000));
-}
-
-#[test]
-fn quiet_hosts_on_the_fast_path_give_the_exact_trace_with_faults() {
-    // As below: a burst, bit errors, a drifting clock, a slave switched off and on.
-    let faults = vec![
-        Fault {
-            at: us(310),
-            kind: FaultKind::BitErrorBurst {
-                segment: 3,
-                bits: 40,
-            },
-        },
-        Fault {
-            at: us(520),
-            kind: FaultKind::BitErrors {
-                segment: 6,
-                until: us(700),
-                rate: 0.001,
-            },
-        },
-        Fault {
-            at: us(400),
-            kind: FaultKind::ClockDrift { node: 9, ppm: 80.0 },
-        },
-        Fault {
-            at: us(800),
-            kind: FaultKind::PowerOff {
-                node: 4,
-                until: Some(us(950)),
-            },
-        },
-    ];
-    quiet_fast_equals_exact(12, faults, us(1250));
 }
 
 #[test]

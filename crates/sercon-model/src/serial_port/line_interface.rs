@@ -94,24 +94,6 @@ impl Chip {
         self.serial.next_output_at()
     }
 
-    /// When the next own output segment not yet given by [`Chip::take_line_output`] starts:
-    /// an own telegram or the background resumed after one. Queued background segments
-    /// (the repeater's forwarded input, filler) are left out: see
-    /// [`Chip::background_output_starts`]. Together they give
-    /// [`Chip::next_line_output_at`].
-    pub fn next_own_line_output_at(&self) -> Option<Instant> {
-        self.serial.next_own_output_at()
-    }
-
-    /// Starts of the queued background output segments not yet given by
-    /// [`Chip::take_line_output`], in order: what the repeater forwards (410B §1: "The
-    /// slaves regenerate and repeat their received data", 1H.3 REPON) and the steady signal
-    /// or filler of the transmit mode. A simulation that carries forwarded telegrams down
-    /// the ring itself need not wake the chip for the copies it expects.
-    pub fn background_output_starts(&self) -> impl Iterator<Item = Instant> + '_ {
-        self.serial.background_output_starts()
-    }
-
     /// Moves the telegrams received so far to `out` (a log for tools and tests, kept to the
     /// newest [`super::RX_LOG_FRAMES`]; the telegram processor gets every frame anyway).
     pub fn take_rx_frames(&mut self, out: &mut Vec<RxFrame>) {

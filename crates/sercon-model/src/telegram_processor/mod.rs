@@ -235,36 +235,6 @@ impl TelegramProcessor {
         best
     }
 
-    /// A lower bound of the tick at which the processor can next start a transmit telegram
-    /// (`transmit::start`), given the start tick of the first queued frame: the start of
-    /// the current transmit header, or the next event that can move the walk to a transmit
-    /// header (a frame's start or end, a pending block, the MST deadline, a receive
-    /// window's close, the end marker). The end of a transmission (`transmit::end`: flags
-    /// only) and the opening of a receive window (announcement only) change no header, so
-    /// they are no bound; a header reached later starts at or after the event that reached
-    /// it (410B §4.2.1 TRT: transmission starts at its time, never earlier than now).
-    pub(crate) fn next_send_tick_with(&self, first_frame: Option<u64>) -> Option<u64> {
-        let mut best: Option<u64> = first_frame;
-        let mut consider = |t: Option<u64>| {
-            if let Some(t) = t {
-                best = Some(best.map_or(t, |b| b.min(t)));
-            }
-        };
-        consider(self.rx_now.as_ref().map(|r| r.end_tick));
-        consider(self.pending_block.map(|(t, _)| t));
-        consider(self.mst.deadline);
-        if let Some(b) = &self.block {
-            consider(match b.cur {
-                Some(Cur::Tx { start, .. }) => Some(start),
-                // Opening the window only announces it; its close may advance the walk.
-                Some(Cur::Rx { close, .. }) => close,
-                Some(Cur::End { ready, .. }) => Some(ready),
-                None => None,
-            });
-        }
-        best
-    }
-
     /// The next tick, given the start tick of the first queued frame (computed by the
     /// chip, which knows the clock).
     pub(crate) fn next_tick_with(&self, first_frame: Option<u64>) -> Option<u64> {
@@ -302,12 +272,6 @@ pub(crate) fn first_frame_tick(chip: &Chip) -> Option<u64> {
 /// The next tick at which the telegram processor acts.
 pub(crate) fn next_tick(chip: &Chip) -> Option<u64> {
     chip.tp.next_tick_with(first_frame_tick(chip))
-}
-
-/// A lower bound of the tick at which the telegram processor can next start a transmit
-/// telegram ([`TelegramProcessor::next_send_tick_with`]).
-pub(crate) fn next_send_tick(chip: &Chip) -> Option<u64> {
-    chip.tp.next_send_tick_with(first_frame_tick(chip))
 }
 
 /// A communication cycle started at `tick` (timing control): a master sends the MST and

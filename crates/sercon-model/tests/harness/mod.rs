@@ -191,47 +191,23 @@ impl Ring {
         let step = Duration::from_picos((self.delay.as_picos() / 2).max(1));
         while self.now < until {
             let next = (self.now + step).min(until);
-            self.round(next);
-        }
-    }
-
-    /// Runs every chip to `until` by a conservative event loop: each round advances every
-    /// chip to just before the earliest send horizon (`Chip::next_line_send_at`) plus the
-    /// fibre delay, so no segment reaches its receiver after the receiver's time passed it.
-    pub fn run_to_by_send_horizon(&mut self, until: Instant) {
-        let one = Duration::from_picos(1);
-        while self.now < until {
             let n = if self.slave2.is_some() { 3 } else { 2 };
-            let send = (0..n)
-                .filter_map(|i| self.chip(i).next_line_send_at())
-                .min();
-            let horizon = send.map_or(until, |e| {
-                let arrival = e.saturating_add(self.delay);
-                Instant::ZERO + arrival.saturating_duration_since(Instant::ZERO + one)
-            });
-            let next = horizon.max(self.now + one).min(until);
-            self.round(next);
-        }
-    }
-
-    /// Advances every chip to `next`, carries their output and collects received frames.
-    fn round(&mut self, next: Instant) {
-        let n = if self.slave2.is_some() { 3 } else { 2 };
-        for i in 0..n {
-            self.chip(i).advance_to(next);
-            let mut out = std::mem::take(&mut self.buf);
-            self.chip(i).take_line_output(&mut out);
-            for seg in out.drain(..) {
-                self.carry(i, (i + 1) % n, seg);
+            for i in 0..n {
+                self.chip(i).advance_to(next);
+                let mut out = std::mem::take(&mut self.buf);
+                self.chip(i).take_line_output(&mut out);
+                for seg in out.drain(..) {
+                    self.carry(i, (i + 1) % n, seg);
+                }
+                self.buf = out;
             }
-            self.buf = out;
+            for i in 0..n {
+                let mut frames = Vec::new();
+                self.chip(i).take_rx_frames(&mut frames);
+                self.received[i].extend(frames);
+            }
+            self.now = next;
         }
-        for i in 0..n {
-            let mut frames = Vec::new();
-            self.chip(i).take_rx_frames(&mut frames);
-            self.received[i].extend(frames);
-        }
-        self.now = next;
     }
 
     fn chip(&mut self, i: usize) -> &mut Chip {
