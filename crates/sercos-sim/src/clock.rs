@@ -67,24 +67,19 @@ impl NodeClock {
     }
 
     fn piece_global(&self, g: u64) -> Piece {
-        self.pieces
-            .iter()
-            .rev()
-            .find(|p| p.global <= g)
-            .or(self.pieces.first())
-            .copied()
-            .unwrap_or(Piece {
-                global: 0,
-                local: 0,
-                ppb: 0,
-            })
+        self.piece_where(|p| p.global <= g)
     }
 
     fn piece_local(&self, l: u64) -> Piece {
+        self.piece_where(|p| p.local <= l)
+    }
+
+    /// The last piece that has begun by `begun` (the first one if none has).
+    fn piece_where(&self, begun: impl Fn(&Piece) -> bool) -> Piece {
         self.pieces
             .iter()
             .rev()
-            .find(|p| p.local <= l)
+            .find(|p| begun(p))
             .or(self.pieces.first())
             .copied()
             .unwrap_or(Piece {

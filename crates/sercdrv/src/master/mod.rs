@@ -313,12 +313,7 @@ impl Master {
         idn: Idn,
         value: u64,
     ) -> Result<(), CyclicError> {
-        let d = self
-            .cyclic
-            .as_mut()
-            .ok_or(CyclicError::NotCyclic)?
-            .drive_mut(drive)
-            .ok_or(CyclicError::UnknownDrive(drive))?;
+        let d = self.cyclic_drive_mut(drive)?;
         let item = *d
             .mdt_items
             .iter()
@@ -334,12 +329,7 @@ impl Master {
     /// Sets the control word of `drive`'s MDT record (bits 15-6; the service-channel bits
     /// 5-0 are the chip's, ERRATA "service info in a container").
     pub fn set_control_word(&mut self, drive: DriveAddress, word: u16) -> Result<(), CyclicError> {
-        let d = self
-            .cyclic
-            .as_mut()
-            .ok_or(CyclicError::NotCyclic)?
-            .drive_mut(drive)
-            .ok_or(CyclicError::UnknownDrive(drive))?;
+        let d = self.cyclic_drive_mut(drive)?;
         if let Some(w) = d.record.first_mut() {
             *w = word & !0x003F;
         }
@@ -349,12 +339,7 @@ impl Master {
     /// The feedback value `idn` of `drive` (an IDN of the AT list) from the last AT
     /// received whole, words low first.
     pub fn feedback(&self, drive: DriveAddress, idn: Idn) -> Result<u64, CyclicError> {
-        let d = self
-            .cyclic
-            .as_ref()
-            .ok_or(CyclicError::NotCyclic)?
-            .drive(drive)
-            .ok_or(CyclicError::UnknownDrive(drive))?;
+        let d = self.cyclic_drive(drive)?;
         let item = d
             .at_items
             .iter()
@@ -365,16 +350,32 @@ impl Master {
 
     /// The status word of `drive`'s last AT received whole (sercos-telegrams.md, AT).
     pub fn status_word(&self, drive: DriveAddress) -> Result<u16, CyclicError> {
-        let d = self
-            .cyclic
-            .as_ref()
-            .ok_or(CyclicError::NotCyclic)?
-            .drive(drive)
-            .ok_or(CyclicError::UnknownDrive(drive))?;
+        let d = self.cyclic_drive(drive)?;
         d.received
             .first()
             .copied()
             .ok_or(CyclicError::NoData(drive))
+    }
+
+    /// `drive`'s cyclic data, once the phase 3–4 layout exists.
+    fn cyclic_drive(&self, drive: DriveAddress) -> Result<&cyclic::DriveCyclic, CyclicError> {
+        self.cyclic
+            .as_ref()
+            .ok_or(CyclicError::NotCyclic)?
+            .drive(drive)
+            .ok_or(CyclicError::UnknownDrive(drive))
+    }
+
+    /// `drive`'s cyclic data for a change, once the phase 3–4 layout exists.
+    fn cyclic_drive_mut(
+        &mut self,
+        drive: DriveAddress,
+    ) -> Result<&mut cyclic::DriveCyclic, CyclicError> {
+        self.cyclic
+            .as_mut()
+            .ok_or(CyclicError::NotCyclic)?
+            .drive_mut(drive)
+            .ok_or(CyclicError::UnknownDrive(drive))
     }
 
     /// Puts a tool request that was running back at the head of its queue (the service
