@@ -8,9 +8,13 @@ use std::collections::VecDeque;
 pub(crate) struct DmaFifos {
     /// Received words of DMA containers (DMA = 1), read by the host at 27H.
     pub(crate) rx: VecDeque<u16>,
+    /// The block (its MST-end tick) whose receive telegrams put the words in `rx`: RFIFO
+    /// holds one block's DMA receive data (spec-notes "Master DMA layout").
+    pub(crate) rx_block: Option<u64>,
     /// Words written by the host at 27H for the next DMA transmit telegram.
     pub(crate) tx: VecDeque<u16>,
-    /// Words the current DMA transmit telegram needs (0 when none is pending).
+    /// Words the current DMA transmit telegram needs (0 when none is pending); after a DMA
+    /// transmit telegram took its words, the same count for the header's next telegram.
     pub(crate) tx_want: usize,
     /// DMAMODE = 1: the MCLK tick of the last DMAREQR pulse.
     pub(crate) pulse_r: Option<u64>,
@@ -55,6 +59,19 @@ impl DmaFifos {
         }
     }
 
+    /// A DMA receive telegram of block `block` stores its words: words of an earlier block
+    /// still unread are an overrun (dropped; returns `true`). Words of the same block's
+    /// earlier telegrams stay, in order (spec-notes "Master DMA layout").
+    pub(crate) fn store_rx(&mut self, block: Option<u64>, words: &[u16]) -> bool {
+        let overrun = !self.rx.is_empty() && self.rx_block != block;
+        if overrun {
+            self.rx.clear();
+        }
+        self.rx_block = block;
+        self.rx.extend(words.iter().copied());
+        overrun
+    }
+
     /// A read of RFIFO (27H, or DMAACKRN = 0): the oldest word, 0 when empty.
     pub(crate) fn read(&mut self) -> u16 {
         self.rx.pop_front().unwrap_or(0)
@@ -70,5 +87,24 @@ impl DmaFifos {
         } else {
             false
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // 410B §4.1 27H RFIFO; spec-notes "Master DMA layout": one block's DMA receive data
+    // stay in order; words of an earlier block still unread are an overrun.
+    #[test]
+    fn rfifo_holds_one_blocks_receive_data() {
+        let mut f = DmaFifos::default();
+        assert!(!f.store_rx(Some(10), &[1, 2]));
+        assert!(!f.store_rx(Some(10), &[3]));
+        assert_eq!(f.rx.iter().copied().collect::<Vec<_>>(), vec![1, 2, 3]);
+        assert!(f.store_rx(Some(20), &[4]));
+        assert_eq!(f.rx.iter().copied().collect::<Vec<_>>(), vec![4]);
+        assert_eq!(f.read(), 4);
+        assert!(!f.store_rx(Some(30), &[5]));
     }
 }

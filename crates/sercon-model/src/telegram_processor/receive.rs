@@ -197,11 +197,7 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
     let walk_error = walk.error;
     let mut overrun = false;
     let mut fifo_overrun = false;
-    if buffering == Buffering::Dma && !chip.tp.fifo.rx.is_empty() {
-        // The host has not read the previous telegram's words.
-        fifo_overrun = true;
-        chip.tp.fifo.rx.clear();
-    }
+    let block = chip.tp.block.as_ref().map(|b| b.ref_tick);
     for c in list.iter() {
         let pos = usize::from(c.pos);
         let len = usize::from(c.control.len);
@@ -220,7 +216,9 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
             break;
         }
         match buffering {
-            Buffering::Dma => chip.tp.fifo.rx.extend(record.iter().copied()),
+            // RFIFO collects the block's DMA receive data; words of an earlier block still
+            // unread are an overrun (spec-notes "Master DMA layout").
+            Buffering::Dma => fifo_overrun |= chip.tp.fifo.store_rx(block, &record),
             // Double buffer: write the buffer that is not valid (VAL selects the valid one).
             _ => {
                 let dst = c.buffer(buffering, !h.val);

@@ -12,16 +12,20 @@ use crate::service_container::{self, ScMode};
 
 /// A transmit header became current (read into NTH): a DMA telegram asks for its data.
 // 410B §2 DMAREQT: "becomes active when data can be written to the transmit FIFO".
+// Words written before (after the previous DMA transmit telegram took its words) are kept
+// up to what this telegram needs (spec-notes "Master DMA layout").
 pub(super) fn prepare(chip: &mut Chip, at: u16, hdr: &TxHeader) {
-    chip.tp.fifo.tx.clear();
-    chip.tp.fifo.tx_want = 0;
     if hdr.buffering() != Buffering::Dma || hdr.en == TxEnable::Off {
+        chip.tp.fifo.tx.clear();
+        chip.tp.fifo.tx_want = 0;
         return;
     }
     let want: usize = Containers::new(&chip.ram, at, HeaderKind::Transmit, Buffering::Dma)
         .map(|c| usize::from(c.control.len))
         .sum();
-    chip.tp.fifo.tx_want = want.min(usize::from(hdr.tlen));
+    let want = want.min(usize::from(hdr.tlen));
+    chip.tp.fifo.tx.truncate(want);
+    chip.tp.fifo.tx_want = want;
 }
 
 /// Whether the telegram is sent, by EN (410B §4.2.1: "not to be transmitted (EN = 0),
@@ -172,7 +176,14 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
         words += 1;
     }
     chip.tp.fifo.tx.clear();
-    chip.tp.fifo.tx_want = 0;
+    // The FIFO takes the words of this header's next telegram from now on: DMAREQT is
+    // active again (410B §2 "becomes active when data can be written to the transmit
+    // FIFO"; spec-notes "Master DMA layout").
+    chip.tp.fifo.tx_want = if buffering == Buffering::Dma {
+        list.iter().map(|c| usize::from(c.control.len)).sum::<usize>().min(tlen)
+    } else {
+        0
+    };
     chip.tp.txbuf = buf;
     chip.tp.record = record;
     chip.tp.containers = list;
