@@ -148,7 +148,7 @@ const VAL: u16 = 1 << 10;
 fn buffer_start(place: &ContainerPlace, buffer: u8) -> Option<u16> {
     match (place.buffering, buffer) {
         (Buffering::Single, 0) | (Buffering::Double, 0) => Some(place.data),
-        (Buffering::Double, 1) => place.data.checked_add(place.len),
+        (Buffering::Double, 1) => place.data.checked_add(place.buffer_stride),
         _ => None,
     }
 }

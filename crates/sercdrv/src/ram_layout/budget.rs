@@ -1,7 +1,7 @@
 //! Word budget of a master's dual-port RAM (410B §4.2), computed from sizes alone: how many
 //! words a ring of n drives needs, and the largest ring that fits. It answers "do 254 drives
-//! fit?" before any timing plan exists, and weighs layouts [`build`](super::build) does not
-//! produce (one MDT transmit container for every record).
+//! fit?" before any timing plan exists, for one MDT transmit container per drive or one for
+//! every record ([`build_with`](super::build_with) lays out both).
 //!
 //! The words counted are those [`build`](super::build) places for a master (checked against
 //! it by tests): the 11 fixed words; one service container (5 control words + buffer) for
@@ -119,7 +119,7 @@ impl MasterBudget {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ram_layout::{PhaseGroup, RamLayoutError, RamLayoutRequest, Role, build};
+    use crate::ram_layout::{PhaseGroup, RamLayoutError, RamLayoutRequest, Role, build_with};
     use crate::timing::{DriveParameters, TimingRequest, TimingRules, plan_cycle};
     use proptest::prelude::*;
     use sercos_wire::time::BitRate;
@@ -153,7 +153,7 @@ mod tests {
         if !b.noncyclic_block {
             req.blocks = [None, Some(PhaseGroup::Cyclic)];
         }
-        match build(&req) {
+        match build_with(&req, b.mdt) {
             Ok(layout) => Some(layout.words_used),
             Err(RamLayoutError::DoesNotFit { needed, .. }) => Some(needed),
             Err(_) => None,
@@ -180,6 +180,7 @@ mod tests {
             sc in 1u16..=40,
             noncyclic in any::<bool>(),
             variant in prop_oneof![Just(Variant::Sercon410b), Just(Variant::Sercon816)],
+            containers in prop_oneof![Just(MdtContainers::PerDrive), Just(MdtContainers::Single)],
         ) {
             let b = MasterBudget {
                 variant,
@@ -189,7 +190,7 @@ mod tests {
                 service_buffer_words: sc,
                 service_containers: SERVICE_CONTAINERS,
                 noncyclic_block: noncyclic,
-                mdt: MdtContainers::PerDrive,
+                mdt: containers,
             };
             if let Some(words) = built_words(&b, n) {
                 prop_assert_eq!(b.words_needed(u32::from(n)), words);

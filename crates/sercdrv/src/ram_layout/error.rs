@@ -30,6 +30,14 @@ pub enum RamLayoutError {
         /// The slave's address.
         address: u8,
     },
+    /// A data container would hold more words than LEN can say (410B §4.2.2: bits 9-0).
+    #[error("a data container of {words} words: LEN holds at most {max}")]
+    ContainerTooLong {
+        /// Words the container would hold.
+        words: u16,
+        /// The most LEN can say.
+        max: u16,
+    },
     /// A service-container buffer outside 1-251 words (8-bit offsets from the container).
     #[error("service-container buffer of {words} words: 1-{max} words fit")]
     ServiceBufferSize {

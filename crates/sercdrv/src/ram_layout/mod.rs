@@ -130,10 +130,15 @@ pub struct ContainerPlace {
     /// Address of control word 0 (LEN, SVFL, NSV, SCMASTER, LASTDC).
     pub control: u16,
     /// Address of the first data word of buffer 0 (the control or status word of the
-    /// record); buffer 1 follows at `data + len` with double buffering; meaningless with DMA.
+    /// record); buffer 1 follows at `data + buffer_stride` with double buffering;
+    /// meaningless with DMA.
     pub data: u16,
-    /// LEN, data words of the record.
+    /// Data words of the record (the container's LEN, or the record's share of a container
+    /// holding every drive's record, [`MdtContainers::Single`]).
     pub len: u16,
+    /// Words from buffer 0 to buffer 1 of the record: the LEN of the container holding it
+    /// (410B §4.2.2: double buffer, buffer 1 follows buffer 0).
+    pub buffer_stride: u16,
     /// Where the data lives.
     pub buffering: Buffering,
     /// The service container serving this record (SVFL = 1, NSV), if any.
@@ -149,7 +154,7 @@ impl ContainerPlace {
             (Buffering::Single, 0) | (Buffering::Double, 0) => self.data.checked_add(header_words),
             (Buffering::Double, 1) => self
                 .data
-                .checked_add(self.len)
+                .checked_add(self.buffer_stride)
                 .and_then(|a| a.checked_add(header_words)),
             _ => None,
         }
@@ -250,8 +255,21 @@ pub struct RamLayout {
     pub words_used: u32,
 }
 
-/// Builds the layout or says why it does not fit.
+/// Builds the layout or says why it does not fit; a master's phase 3-4 MDT gets one
+/// transmit container per drive ([`MdtContainers::PerDrive`]).
 pub fn build(req: &RamLayoutRequest<'_>) -> Result<RamLayout, RamLayoutError> {
+    build_with(req, MdtContainers::PerDrive)
+}
+
+/// Builds the layout with the master's phase 3-4 MDT records held as `mdt` says (a slave
+/// ignores it). With [`MdtContainers::Single`] one transmit container holds every record
+/// (410B §4.2.2: a container's data follow each other in the telegram) and no phase 3-4
+/// data container names a service container: the host runs the drives' service channel
+/// in phases 3-4 itself (spec-notes "Master DMA layout").
+pub fn build_with(
+    req: &RamLayoutRequest<'_>,
+    mdt: MdtContainers,
+) -> Result<RamLayout, RamLayoutError> {
     check(req)?;
     let mut alloc = Allocator::starting_at(0);
     let fixed = alloc.place(RegionKind::FixedWords, u32::from(FIXED_WORDS));
@@ -273,7 +291,7 @@ pub fn build(req: &RamLayoutRequest<'_>) -> Result<RamLayout, RamLayoutError> {
                 let start = alloc.used();
                 // 410B §4.2: COMPTn, start of transmission block n.
                 alloc.write_words(u32::from(compt), &[u16_of(start)]);
-                let (map, mut found) = place_block(req, &mut alloc, block as u8, *group);
+                let (map, mut found) = place_block(req, mdt, &mut alloc, block as u8, *group)?;
                 blocks.push(map);
                 // A second phase 3-4 block repeats the drives; the map keeps the first.
                 if drives.is_empty() {
@@ -415,6 +433,9 @@ struct ContainerSpec {
     nsv: Option<u8>,
     drive: Option<u8>,
     command: bool,
+    /// The drives' records one after another in this container (drive, words), for a
+    /// container holding every MDT record ([`MdtContainers::Single`]).
+    parts: Vec<(u8, u16)>,
 }
 
 fn record_words(bytes: u16) -> u16 {
@@ -422,11 +443,19 @@ fn record_words(bytes: u16) -> u16 {
 }
 
 /// The telegrams of one block, in line order.
-fn block_telegrams(req: &RamLayoutRequest<'_>, group: PhaseGroup) -> Vec<TelegramSpec> {
+fn block_telegrams(
+    req: &RamLayoutRequest<'_>,
+    mdt: MdtContainers,
+    group: PhaseGroup,
+) -> Vec<TelegramSpec> {
     let t = req.timing;
+    // One MDT container for all records: no record's service info comes from a service
+    // container in phases 3-4 (spec-notes "Master DMA layout").
+    let host_run = req.role == Role::Master && mdt == MdtContainers::Single;
     let nsv_of = |address: u8| -> Option<u8> {
         match req.role {
             Role::Slave { .. } => Some(0),
+            Role::Master if host_run && group == PhaseGroup::Cyclic => None,
             Role::Master => t
                 .drives
                 .iter()
@@ -442,6 +471,7 @@ fn block_telegrams(req: &RamLayoutRequest<'_>, group: PhaseGroup) -> Vec<Telegra
         nsv,
         drive,
         command,
+        parts: Vec::new(),
     };
     match (req.role, group) {
         (Role::Master, PhaseGroup::NonCyclic) => {
@@ -490,14 +520,8 @@ fn block_telegrams(req: &RamLayoutRequest<'_>, group: PhaseGroup) -> Vec<Telegra
                 .collect();
             // Transmit containers have no POS: their data follow each other in the
             // telegram (410B §4.2.2), in S-0-0009 order.
-            out.push(TelegramSpec {
-                kind: HeaderKind::Transmit,
-                adr: BROADCAST,
-                achk: false,
-                en: TxEnable::Continuous,
-                slot: t.mdt,
-                buffering: req.buffering,
-                containers: t
+            let containers = match mdt {
+                MdtContainers::PerDrive => t
                     .drives
                     .iter()
                     .map(|d| {
@@ -509,6 +533,27 @@ fn block_telegrams(req: &RamLayoutRequest<'_>, group: PhaseGroup) -> Vec<Telegra
                         )
                     })
                     .collect(),
+                MdtContainers::Single => {
+                    let parts: Vec<(u8, u16)> = t
+                        .drives
+                        .iter()
+                        .map(|d| (d.address, record_words(d.mdt_record_bytes)))
+                        .collect();
+                    let len = parts.iter().map(|p| p.1).fold(0u16, u16::saturating_add);
+                    vec![ContainerSpec {
+                        parts,
+                        ..one(len, None, None, true)
+                    }]
+                }
+            };
+            out.push(TelegramSpec {
+                kind: HeaderKind::Transmit,
+                adr: BROADCAST,
+                achk: false,
+                en: TxEnable::Continuous,
+                slot: t.mdt,
+                buffering: req.buffering,
+                containers,
             });
             out
         }
@@ -568,6 +613,7 @@ fn block_telegrams(req: &RamLayoutRequest<'_>, group: PhaseGroup) -> Vec<Telegra
                         nsv: Some(0),
                         drive: Some(address),
                         command: true,
+                        parts: Vec::new(),
                     }],
                 },
             ]
@@ -586,15 +632,25 @@ fn container_words(kind: HeaderKind, buffering: Buffering, len: u16) -> u32 {
 /// Places one transmission block; returns its map and the drives' cyclic containers.
 fn place_block(
     req: &RamLayoutRequest<'_>,
+    mdt: MdtContainers,
     alloc: &mut Allocator,
     block: u8,
     group: PhaseGroup,
-) -> (BlockMap, Vec<DriveRam>) {
+) -> Result<(BlockMap, Vec<DriveRam>), RamLayoutError> {
     let scmaster = req.role == Role::Master;
     let mut telegrams = Vec::new();
     let mut commands: Vec<(u8, ContainerPlace)> = Vec::new();
     let mut feedbacks: Vec<(u8, ContainerPlace)> = Vec::new();
-    for spec in block_telegrams(req, group) {
+    for spec in block_telegrams(req, mdt, group) {
+        for c in &spec.containers {
+            // 410B §4.2.2: LEN is bits 9-0 of control word 0.
+            if c.len > CONTAINER_LEN_MAX {
+                return Err(RamLayoutError::ContainerTooLong {
+                    words: c.len,
+                    max: CONTAINER_LEN_MAX,
+                });
+            }
+        }
         let header_words = spec.kind.words() as u32;
         let total: u32 = header_words
             + spec
@@ -672,9 +728,25 @@ fn place_block(
                 control: u16_of(at),
                 data: u16_of(at + control_words),
                 len: c.len,
+                buffer_stride: c.len,
                 buffering: spec.buffering,
                 nsv: c.nsv,
             };
+            if group == PhaseGroup::Cyclic {
+                // One container for every record: each drive's record at its offset.
+                let mut offset = 0u16;
+                for &(drive, len) in &c.parts {
+                    commands.push((
+                        drive,
+                        ContainerPlace {
+                            data: place.data.saturating_add(offset),
+                            len,
+                            ..place
+                        },
+                    ));
+                    offset = offset.saturating_add(len);
+                }
+            }
             if let (Some(drive), PhaseGroup::Cyclic) = (c.drive, group) {
                 if c.command {
                     commands.push((drive, place));
@@ -718,7 +790,7 @@ fn place_block(
                 })
         })
         .collect();
-    (
+    Ok((
         BlockMap {
             block,
             group,
@@ -726,5 +798,8 @@ fn place_block(
             end_marker: u16_of(end),
         },
         drives,
-    )
+    ))
 }
+
+/// Largest LEN of a data container (410B §4.2.2: LEN, bits 9-0).
+const CONTAINER_LEN_MAX: u16 = (1 << ContainerControl::LEN_BITS) - 1;
