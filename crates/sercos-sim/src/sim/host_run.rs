@@ -136,6 +136,20 @@ impl Simulation {
         };
         let target = node.chip.now().saturating_add(cost);
         let until = node.clock.to_global(target);
+        // Quiet access: no node waits to be served (its host or output could reach this
+        // chip), no queued event up to the access's end and nothing of this chip due before
+        // it (no internal event, so no pin or interrupt change; no output segment). Nothing
+        // can reach or leave the chip meanwhile, so moving it on is all the steps below
+        // would do (they would serve and reschedule the node for nothing).
+        if self.touched.is_empty()
+            && self.queue.peek_time().is_none_or(|e| e > until)
+            && node.chip.next_event_at().is_none_or(|e| e > target)
+        {
+            if let Some(node) = self.nodes.get_mut(j) {
+                node.chip.advance_to(target);
+            }
+            return Ok(());
+        }
         let hop = self
             .seg_delays
             .iter()
