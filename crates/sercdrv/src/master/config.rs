@@ -6,7 +6,7 @@ use sercos_wire::address::DriveAddress;
 use sercos_wire::idn::Idn;
 use sercos_wire::time::{BitRate, Duration};
 
-use crate::ram_layout::DEFAULT_SERVICE_BUFFER_WORDS;
+use crate::ram_layout::{DEFAULT_SERVICE_BUFFER_WORDS, MdtContainers};
 use crate::service_channel::ContainerSlot;
 use crate::timing::{MdtPlacement, TimingRules};
 
@@ -44,9 +44,19 @@ pub struct MasterConfig {
     /// S-0-0024, the MDT configuration list (command IDNs, in order).
     #[doc(alias = "S-0-0024")]
     pub mdt_list: Vec<Idn>,
-    /// Buffering of the cyclic data in phases 3-4 (410B §4.2.1 DMA/DBUF; DMA not supported
-    /// by the driver).
+    /// Buffering of the cyclic data in phases 3-4 (410B §4.2.1 DMA/DBUF). With DMA the
+    /// driver moves the data through the FIFOs at 27H once per cycle (410B §4.1) and plans
+    /// the MDT right after the ATs (spec-notes "Master DMA layout").
     pub buffering: Buffering,
+    /// How the phase 3-4 MDT's records are held: one transmit container per drive, or one
+    /// for every record, whose drives' service channel the host then runs itself in phases
+    /// 3-4 (410B §4.2.2; [`crate::service_channel::HostRunChannel`]).
+    pub mdt_containers: MdtContainers,
+    /// When the phase 3-4 layout of `buffering` and `mdt_containers` does not fit the RAM,
+    /// use DMA with one MDT container for every record (the layout that holds 254 drives in
+    /// the SERCON816), shrinking the service-container buffers if even that needs it;
+    /// `true` by default.
+    pub layout_fallback: bool,
     /// Gap and MDT placement for the timing plan.
     pub timing_rules: TimingRules,
     /// Cycles the ring must be seen closed in phase 0 before phase 1.
@@ -96,6 +106,8 @@ impl MasterConfig {
             at_list: vec![Idn::from_raw(11), Idn::from_raw(51), Idn::from_raw(0x8013)],
             mdt_list: vec![Idn::from_raw(36)],
             buffering: Buffering::Double,
+            mdt_containers: MdtContainers::PerDrive,
+            layout_fallback: true,
             timing_rules: TimingRules {
                 min_gap_us: 2,
                 mdt_placement: MdtPlacement::EndOfCycle,

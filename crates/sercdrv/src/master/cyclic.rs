@@ -1,8 +1,9 @@
 //! Cyclic data of phases 3-4: command values into each drive's MDT record, feedback values
-//! out of its AT, by IDN, through the single or double buffer (410B §4.2.1 DBUF, VAL).
+//! out of its AT, by IDN, through the single or double buffer (410B §4.2.1 DBUF, VAL) or the
+//! FIFOs at 27H (410B §4.2.1 DMA; §2 DMAREQR/DMAREQT; spec-notes "Master DMA layout").
 
 use sercon_regs::ram::header::{Buffering, Header};
-use sercon_regs::{SerconBus, SerconBusExt, Variant};
+use sercon_regs::{Ctrl3, Fifo, ProgerrFl, SerconBus, SerconBusExt, Variant};
 use sercos_wire::address::DriveAddress;
 use sercos_wire::idn::Idn;
 
@@ -10,7 +11,7 @@ use crate::ram_layout::ContainerPlace;
 
 /// Words of the control/status word and the service info before the cyclic data
 /// (sercos-telegrams.md, "Data Record").
-const RECORD_HEADER_WORDS: usize = 2;
+pub(crate) const RECORD_HEADER_WORDS: usize = 2;
 
 /// Where one IDN sits in a record's cyclic data.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -64,9 +65,43 @@ pub(crate) struct CyclicImage {
     /// The broadcast MDT's transmit header.
     pub mdt_header: u16,
     pub drives: Vec<DriveCyclic>,
+    /// Indices of `drives` in the order of their AT receive headers in the chain (the
+    /// order their words enter RFIFO).
+    at_order: Vec<usize>,
+    /// Indices of `drives` in the order of their MDT records (the order TFIFO takes them).
+    mdt_order: Vec<usize>,
 }
 
+/// 410B §4.2.1 receive header word 0 bit 13, RERR: "errored or not received".
+const RERR: u16 = 1 << 13;
+
+/// PROGERR_FL bit 4, DMA FIFO short or overrun (the model's reading of 17H, spec-notes
+/// "Telegram processor and MST").
+const PROGERR_DMA_FIFO: u16 = 1 << 4;
+
 impl CyclicImage {
+    /// The image of `drives`, the FIFO orders taken from their RAM places (headers and
+    /// records are laid out in chain and telegram order).
+    pub fn new(
+        variant: Variant,
+        buffering: Buffering,
+        mdt_header: u16,
+        drives: Vec<DriveCyclic>,
+    ) -> CyclicImage {
+        let mut at_order: Vec<usize> = (0..drives.len()).collect();
+        at_order.sort_by_key(|&i| drives.get(i).map(|d| d.at_header));
+        let mut mdt_order: Vec<usize> = (0..drives.len()).collect();
+        mdt_order.sort_by_key(|&i| drives.get(i).map(|d| (d.command.control, d.command.data)));
+        CyclicImage {
+            variant,
+            buffering,
+            mdt_header,
+            drives,
+            at_order,
+            mdt_order,
+        }
+    }
+
     pub fn drive(&self, address: DriveAddress) -> Option<&DriveCyclic> {
         self.drives.iter().find(|d| d.address == address)
     }
@@ -80,6 +115,10 @@ impl CyclicImage {
     /// "Set by processor": data in buffer 0 (VAL = 0) or buffer 1 (VAL = 1) are valid; 816
     /// §2.10.1.2: VAL is read again at the start of the transmit telegram).
     pub fn write_commands<B: SerconBus + ?Sized>(&self, bus: &mut B) {
+        if self.buffering == Buffering::Dma {
+            self.write_fifo(bus);
+            return;
+        }
         let header = match bus.read_header(self.variant, self.mdt_header) {
             Ok(Header::Transmit(h)) => h,
             _ => return,
@@ -108,6 +147,9 @@ impl CyclicImage {
     /// telegrams"). VAL is read again afterwards and the read repeated if it changed, so a
     /// value is never torn between two telegrams. Returns how many ATs came without error.
     pub fn read_feedback<B: SerconBus + ?Sized>(&mut self, bus: &mut B) -> usize {
+        if self.buffering == Buffering::Dma {
+            return self.read_fifo(bus);
+        }
         let variant = self.variant;
         let mut ok = 0;
         for d in &mut self.drives {
@@ -134,6 +176,72 @@ impl CyclicImage {
             }
             d.last_ok = good;
             if good {
+                ok += 1;
+                d.received = words;
+            }
+        }
+        ok
+    }
+}
+
+impl CyclicImage {
+    /// DMA: every drive's record, in telegram order, into TFIFO (410B §4.1 27H), while
+    /// DMAREQT (3H.12) says the FIFO takes the next MDT's words; else nothing (the words
+    /// would be dropped).
+    fn write_fifo<B: SerconBus + ?Sized>(&self, bus: &mut B) {
+        // 410B §2 DMAREQT: "becomes active when data can be written to the transmit FIFO".
+        if !bus.read_reg::<Ctrl3>().contains(Ctrl3::DMAREQT) {
+            return;
+        }
+        for d in self.mdt_order.iter().filter_map(|&i| self.drives.get(i)) {
+            for &w in &d.record {
+                bus.write_reg(Fifo(w));
+            }
+        }
+    }
+
+    /// DMA: the ATs received without error (RERR = 0) left their words in RFIFO in chain
+    /// order (410B §4.1 27H; spec-notes "Master DMA layout"). Words left over (DMAREQR,
+    /// 3H.13) or a FIFO fault (17H bit 4) mean the words may mix two cycles: the cycle's
+    /// feedback is dropped, never torn. Returns how many ATs came whole.
+    fn read_fifo<B: SerconBus + ?Sized>(&mut self, bus: &mut B) -> usize {
+        let mut got: Vec<Option<Vec<u16>>> = vec![None; self.drives.len()];
+        for &i in &self.at_order {
+            let Some(d) = self.drives.get(i) else {
+                continue;
+            };
+            if bus.read_ram(d.at_header) & RERR != 0 {
+                continue;
+            }
+            let words = (0..d.feedback.len)
+                .map(|_| bus.read_reg::<Fifo>().0)
+                .collect();
+            if let Some(slot) = got.get_mut(i) {
+                *slot = Some(words);
+            }
+        }
+        // 410B §2 DMAREQR: active while RFIFO holds words.
+        let mut leftover = bus.read_reg::<Ctrl3>().contains(Ctrl3::DMAREQR);
+        let fault = bus.read_reg::<ProgerrFl>().0 & PROGERR_DMA_FIFO != 0;
+        if fault {
+            // 410B §4.1 17H CLR_PROGERR_FL: write 1 to clear.
+            bus.write_reg(ProgerrFl(PROGERR_DMA_FIFO));
+        }
+        if leftover || fault {
+            // Drain what is left (at most one cycle's words) and drop the cycle.
+            let limit: usize = self.drives.iter().map(|d| usize::from(d.feedback.len)).sum();
+            let mut drained = 0;
+            while leftover && drained < limit {
+                bus.read_reg::<Fifo>();
+                drained += 1;
+                leftover = bus.read_reg::<Ctrl3>().contains(Ctrl3::DMAREQR);
+            }
+            got.iter_mut().for_each(|g| *g = None);
+        }
+        let mut ok = 0;
+        for (d, g) in self.drives.iter_mut().zip(got) {
+            d.last_ok = g.is_some();
+            if let Some(words) = g {
                 ok += 1;
                 d.received = words;
             }

@@ -45,6 +45,17 @@ pub enum MasterErrorKind {
     /// The RAM layout does not fit.
     #[error("RAM layout: {0}")]
     Layout(RamLayoutError),
+    /// The ring fits no RAM layout of the controller, not even DMA with one MDT container
+    /// for every record and the smallest service-container buffers.
+    #[error("{drives} drives need {needed} words of RAM, the controller has {available}")]
+    RingDoesNotFit {
+        /// Drives configured.
+        drives: usize,
+        /// Words the smallest layout needs.
+        needed: u32,
+        /// Words of the RAM (1024 or 2048).
+        available: u32,
+    },
     /// The ATs stopped coming in phases 3-4 while the line still carries light: the MST
     /// does not get round the ring.
     #[error("MST lost: no telegram came back")]

@@ -39,11 +39,15 @@ use sercos_wire::address::DriveAddress;
 use sercos_wire::idn::Idn;
 use sercos_wire::time::Instant;
 
-use crate::ram_layout::{self, PhaseGroup, RamLayout, RamLayoutRequest, Role};
-use crate::service_channel::{
-    CommandStatus, Completion, ContainerSlot, Request, ServiceChannelMaster, Ticket, Wiring,
+use crate::ram_layout::{
+    self, MasterBudget, MdtContainers, PhaseGroup, RamLayout, RamLayoutError, RamLayoutRequest,
+    Role,
 };
-use crate::timing::{self, CycleTiming, DriveParameters, TimingRequest};
+use crate::service_channel::{
+    CommandStatus, Completion, ContainerSlot, HostRunChannel, Request, ServiceChannelMaster,
+    Ticket, Wiring,
+};
+use crate::timing::{self, CycleTiming, DriveParameters, MdtPlacement, TimingRequest};
 
 use chip_init::{init_chip, select_block, set_phase, start_cycles};
 use cyclic::{CyclicImage, DriveCyclic};
@@ -54,6 +58,19 @@ use script::{Item, Lane, Purpose, TimingValue};
 /// eight drives have a service container each (410B §4.2: SCPT0-7); with more, the eight
 /// are shared, routed to a drive before each transfer (spec-notes "Driver master").
 pub const MAX_DRIVES: usize = 254;
+
+/// Smallest service-container buffer the master shrinks to so that a large ring fits
+/// (spec-notes "Master DMA layout": a list of up to six IDNs in one buffer fill).
+pub const MIN_SERVICE_BUFFER_WORDS: u16 = 8;
+
+/// How the phase 3-4 data are held (410B §4.2.1 DMA/DBUF, §4.2.2 containers).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CyclicLayout {
+    /// Buffering of the cyclic data.
+    pub buffering: Buffering,
+    /// One MDT container per drive or one for every record.
+    pub mdt: MdtContainers,
+}
 
 /// S-0-0099, reset class 1 diagnostic (sercos-facts.md, "Timing parameters" table).
 const RESET_CLASS_1: Idn = Idn::from_raw(99);
@@ -113,6 +130,14 @@ pub struct Master {
     layout: Option<RamLayout>,
     places: Option<NonCyclicPlaces>,
     sc: Option<ServiceChannelMaster<MasterRouter>>,
+    /// The host-run service channel of phases 3-4 when one MDT container holds every
+    /// record (410B §4.2.2: no per-drive SVFL/NSV).
+    host_sc: Option<HostRunChannel>,
+    /// Words of each service container's buffer in the RAM (the configured size, or less
+    /// so that the ring fits, [`MIN_SERVICE_BUFFER_WORDS`]).
+    service_buffer_words: u16,
+    /// The phase 3-4 layout chosen in phase 2.
+    cyclic_layout: CyclicLayout,
     lanes: Vec<Lane>,
     /// Requests of tools ([`Master::submit_service`]), one at a time, and their results.
     tool: Lane,
@@ -148,9 +173,6 @@ impl Master {
         if cfg.telegram_type != TELEGRAM_TYPE_CONFIGURED {
             return bad("only telegram type 7 (S-0-0016/S-0-0024) is supported");
         }
-        if cfg.buffering == Buffering::Dma {
-            return bad("DMA buffering is not supported by the master driver");
-        }
         if !cfg.slot_buffer_ok() {
             return bad("service buffer length (1-251 words)");
         }
@@ -161,6 +183,11 @@ impl Master {
             }
             seen.push(*d);
         }
+        let service_buffer_words = fitting_service_buffer(&cfg)?;
+        let cyclic_layout = CyclicLayout {
+            buffering: cfg.buffering,
+            mdt: cfg.mdt_containers,
+        };
         let drives = cfg
             .drives
             .iter()
@@ -186,6 +213,9 @@ impl Master {
             layout: None,
             places: None,
             sc: None,
+            host_sc: None,
+            service_buffer_words,
+            cyclic_layout,
             lanes: Vec::new(),
             tool: Lane::default(),
             tool_done: Vec::new(),
@@ -298,6 +328,24 @@ impl Master {
     /// The cycle's timing, once planned in phase 2.
     pub fn timing(&self) -> Option<&CycleTiming> {
         self.timing.as_ref()
+    }
+
+    /// The phase 3-4 layout: the configured one, or the one chosen in phase 2 because the
+    /// configured one did not fit ([`MasterConfig::layout_fallback`]).
+    pub fn cyclic_layout(&self) -> CyclicLayout {
+        self.cyclic_layout
+    }
+
+    /// Words of each service container's buffer in the RAM (the configured size, or less
+    /// so that a large ring fits).
+    pub fn service_buffer_words(&self) -> u16 {
+        self.service_buffer_words
+    }
+
+    /// Whether the host runs the drives' service channel itself (phases 3-4 with one MDT
+    /// container for every record).
+    pub fn host_runs_service_channel(&self) -> bool {
+        self.host_sc.is_some()
     }
 
     /// The measured ring delay, µs (TCYCDEL, 410B §4.1 11H).
@@ -415,8 +463,13 @@ impl Master {
     fn start<B: SerconBus + ?Sized>(&mut self, bus: &mut B) -> Result<(), MasterError> {
         init_chip(bus, &self.cfg).map_err(|k| MasterError::ring(0, k))?;
         let prelim = self.plan(self.drives.iter().map(|d| d.params).collect())?;
-        let layout = build_layout(&self.cfg, &prelim, [Some(PhaseGroup::NonCyclic), None])
-            .map_err(|k| MasterError::ring(0, k))?;
+        let layout = self
+            .build_layout(
+                &prelim,
+                [Some(PhaseGroup::NonCyclic), None],
+                self.cyclic_layout,
+            )
+            .map_err(|k| MasterError::ring(0, MasterErrorKind::Layout(k)))?;
         for w in &layout.writes {
             bus.write_ram(w.address, w.word);
         }
@@ -450,14 +503,84 @@ impl Master {
     }
 
     fn plan(&self, drives: Vec<DriveParameters>) -> Result<CycleTiming, MasterError> {
+        self.plan_with(drives, self.cfg.timing_rules)
+    }
+
+    fn plan_with(
+        &self,
+        drives: Vec<DriveParameters>,
+        rules: timing::TimingRules,
+    ) -> Result<CycleTiming, MasterError> {
         timing::plan_cycle(&TimingRequest {
             bit_rate: self.cfg.bit_rate,
             cycle_time_us: self.cfg.cycle_us,
             nc_cycle_time_us: self.cfg.nc_cycle_us,
             drives,
-            rules: self.cfg.timing_rules,
+            rules,
         })
         .map_err(|e| self.error(None, None, MasterErrorKind::Timing(e)))
+    }
+
+    /// The layout of `blocks` with the phase 3-4 data held as `cyclic` says.
+    fn build_layout(
+        &self,
+        timing: &CycleTiming,
+        blocks: [Option<PhaseGroup>; 2],
+        cyclic: CyclicLayout,
+    ) -> Result<RamLayout, RamLayoutError> {
+        let mut req = RamLayoutRequest::new(self.cfg.variant, Role::Master, timing);
+        req.blocks = blocks;
+        req.buffering = cyclic.buffering;
+        req.service_buffer_words = self.service_buffer_words;
+        ram_layout::build_with(&req, cyclic.mdt)
+    }
+
+    /// Plans the cycle for `params` and chooses the phase 3-4 layout: the configured one if
+    /// it fits, else (with [`MasterConfig::layout_fallback`]) DMA with one MDT container
+    /// for every record. With DMA the MDT follows the ATs at once, so that the host has the
+    /// rest of the cycle for the FIFOs (spec-notes "Master DMA layout").
+    fn plan_and_choose(
+        &self,
+        params: Vec<DriveParameters>,
+    ) -> Result<(CycleTiming, CyclicLayout), MasterError> {
+        let blocks = [Some(PhaseGroup::NonCyclic), Some(PhaseGroup::Cyclic)];
+        let rules_for = |layout: CyclicLayout| {
+            let mut rules = self.cfg.timing_rules;
+            if layout.buffering == Buffering::Dma {
+                rules.mdt_placement = MdtPlacement::AfterAts;
+            }
+            rules
+        };
+        let wanted = CyclicLayout {
+            buffering: self.cfg.buffering,
+            mdt: self.cfg.mdt_containers,
+        };
+        let timing = self.plan_with(params.clone(), rules_for(wanted))?;
+        let refusal = match self.build_layout(&timing, blocks, wanted) {
+            Ok(_) => return Ok((timing, wanted)),
+            Err(e) => e,
+        };
+        let fallback = CyclicLayout {
+            buffering: Buffering::Dma,
+            mdt: MdtContainers::Single,
+        };
+        let layout_error = |e: RamLayoutError| match e {
+            RamLayoutError::DoesNotFit {
+                needed, available, ..
+            } => MasterErrorKind::RingDoesNotFit {
+                drives: self.drives.len(),
+                needed,
+                available,
+            },
+            other => MasterErrorKind::Layout(other),
+        };
+        if !self.cfg.layout_fallback || wanted == fallback {
+            return Err(self.error(None, None, layout_error(refusal)));
+        }
+        let timing = self.plan_with(params, rules_for(fallback))?;
+        self.build_layout(&timing, blocks, fallback)
+            .map_err(|e| self.error(None, None, layout_error(e)))?;
+        Ok((timing, fallback))
     }
 
     /// Whether the drives share the service containers (more drives than containers).
@@ -527,6 +650,7 @@ impl Master {
         self.lanes.clear();
         self.requeue_tool();
         self.cyclic = None;
+        self.host_sc = None;
         self.addressed = None;
         self.previous = None;
         self.state = State::Phase0 { closed: 0 };
@@ -729,26 +853,20 @@ impl Master {
     /// Polls the service channel, hands completions to their lanes and starts the lanes'
     /// next requests. Returns `false` when a request failed (the master halted).
     fn run_lanes<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) -> bool {
-        let Some(sc) = self.sc.as_mut() else {
+        let Some(done) = self.poll_channel(bus, now) else {
             return false;
         };
-        let done = sc.poll(bus, now);
         for completion in done {
             self.service_requests = self.service_requests.saturating_add(1);
             if !self.complete(completion) {
                 return false;
             }
         }
-        let Some(sc) = self.sc.as_mut() else {
-            return false;
-        };
-        let mut started = false;
-        for lane in &mut self.lanes {
+        let mut starts = Vec::new();
+        for (i, lane) in self.lanes.iter_mut().enumerate() {
             if lane.running.is_none() {
                 if let Some(item) = lane.items.pop_front() {
-                    let ticket = sc.submit(item.drive, item.request.clone());
-                    lane.running = Some((ticket, item));
-                    started = true;
+                    starts.push((Some(i), item));
                 }
             }
         }
@@ -757,14 +875,27 @@ impl Master {
             && self.tool.running.is_none()
         {
             if let Some(item) = self.tool.items.pop_front() {
-                let ticket = sc.submit(item.drive, item.request.clone());
-                self.tool.running = Some((ticket, item));
-                started = true;
+                starts.push((None, item));
+            }
+        }
+        let started = !starts.is_empty();
+        for (lane, item) in starts {
+            let Some(ticket) = self.submit_to_channel(item.drive, item.request.clone()) else {
+                return false;
+            };
+            let slot = match lane {
+                Some(i) => self.lanes.get_mut(i).map(|l| &mut l.running),
+                None => Some(&mut self.tool.running),
+            };
+            if let Some(slot) = slot {
+                *slot = Some((ticket, item));
             }
         }
         if started {
             // Schedules the new requests into their containers now, not a cycle later.
-            let done = sc.poll(bus, now);
+            let Some(done) = self.poll_channel(bus, now) else {
+                return false;
+            };
             for completion in done {
                 self.service_requests = self.service_requests.saturating_add(1);
                 if !self.complete(completion) {
@@ -773,6 +904,29 @@ impl Master {
             }
         }
         true
+    }
+
+    /// Polls the service channel in use: the host-run one in phases 3-4 when one MDT
+    /// container holds every record, else the chip's containers.
+    fn poll_channel<B: SerconBus + ?Sized>(
+        &mut self,
+        bus: &mut B,
+        now: Instant,
+    ) -> Option<Vec<Completion>> {
+        if let Some(host) = self.host_sc.as_mut() {
+            return Some(host.poll(now));
+        }
+        self.sc.as_mut().map(|sc| sc.poll(bus, now))
+    }
+
+    /// Queues `request` for `drive` on the service channel in use.
+    fn submit_to_channel(&mut self, drive: DriveAddress, request: Request) -> Option<Ticket> {
+        if let Some(host) = self.host_sc.as_mut() {
+            if host.serves(drive) {
+                return host.submit(drive, request);
+            }
+        }
+        self.sc.as_mut().map(|sc| sc.submit(drive, request))
     }
 
     /// Takes one completion; `false` if it stops the phase-up.
@@ -939,7 +1093,8 @@ impl Master {
             d.params.mdt_data_bytes = u16::try_from(words(&d.mdt_words) * 2).unwrap_or(u16::MAX);
             params.push(d.params);
         }
-        let timing = self.plan(params)?;
+        let (timing, cyclic_layout) = self.plan_and_choose(params)?;
+        self.cyclic_layout = cyclic_layout;
         let mut writes = Vec::new();
         let mut reset = Vec::new();
         let mut check = Vec::new();
@@ -992,12 +1147,13 @@ impl Master {
             None,
             MasterErrorKind::Config("no timing"),
         ))?;
-        let full = build_layout(
-            &self.cfg,
-            &timing,
-            [Some(PhaseGroup::NonCyclic), Some(PhaseGroup::Cyclic)],
-        )
-        .map_err(|k| self.error(None, None, k))?;
+        let full = self
+            .build_layout(
+                &timing,
+                [Some(PhaseGroup::NonCyclic), Some(PhaseGroup::Cyclic)],
+                self.cyclic_layout,
+            )
+            .map_err(|k| self.error(None, None, MasterErrorKind::Layout(k)))?;
         let same_block0 = self
             .layout
             .as_ref()
@@ -1038,7 +1194,27 @@ impl Master {
         }
         bus.write_ram(COMPT1, block1);
         self.cyclic = Some(self.cyclic_image(&full)?);
-        if self.shared_containers() {
+        self.host_sc = None;
+        if self.cyclic_layout.mdt == MdtContainers::Single {
+            // 410B §4.2.2: one MDT container for every record has no per-drive SVFL/NSV;
+            // the host runs every drive's service channel from now on (spec-notes "Master
+            // DMA layout"). Its containers live in host memory, with the configured buffer.
+            let drives: Vec<DriveAddress> = self.drives.iter().map(|d| d.status.address).collect();
+            let host = HostRunChannel::new(
+                self.cfg.variant,
+                &drives,
+                self.cfg.service_buffer_words,
+                Some(self.cfg.service_timeout),
+            )
+            .map_err(|_| {
+                self.error(
+                    None,
+                    None,
+                    MasterErrorKind::Config("host-run service containers"),
+                )
+            })?;
+            self.host_sc = Some(host);
+        } else if self.shared_containers() {
             // 410B §4.2.2: the routes in effect go into the new data containers.
             let places: Vec<_> = self
                 .drives
@@ -1120,21 +1296,28 @@ impl Master {
                 last_ok: false,
             });
         }
-        Ok(CyclicImage {
-            variant: self.cfg.variant,
-            buffering: self.cfg.buffering,
+        Ok(CyclicImage::new(
+            self.cfg.variant,
+            self.cyclic_layout.buffering,
             mdt_header,
             drives,
-        })
+        ))
     }
 
-    /// Reads the ATs of this cycle and writes the commands of the next; `false` when the
-    /// MST is taken as lost (the master went back to phase 0).
+    /// Reads the ATs of this cycle (and hands their service info to the host-run channel);
+    /// `None` when the MST is taken as lost (the master went back to phase 0).
     fn exchange<B: SerconBus + ?Sized>(&mut self, bus: &mut B, silent: u32) -> Option<u32> {
         let Some(image) = self.cyclic.as_mut() else {
             return Some(silent);
         };
         let ok = image.read_feedback(bus);
+        if let Some(host) = self.host_sc.as_mut() {
+            for d in &image.drives {
+                // The AT's status word and info word (sercos-telegrams.md "Data Record").
+                let record = d.received.get(..cyclic::RECORD_HEADER_WORDS);
+                host.receive(d.address, record.filter(|_| d.last_ok));
+            }
+        }
         for d in &image.drives {
             if let Some(info) = self
                 .drives
@@ -1148,7 +1331,6 @@ impl Master {
                 }
             }
         }
-        image.write_commands(bus);
         let silent = if ok == 0 { silent.saturating_add(1) } else { 0 };
         if silent >= self.cfg.mst_loss_cycles.max(1) {
             // No AT for several cycles: a receive line without edges now (410B §4.1 2H.13
@@ -1166,6 +1348,22 @@ impl Master {
         Some(silent)
     }
 
+    /// Writes the commands of the next cycle, the host-run channel's service info first.
+    fn send_commands<B: SerconBus + ?Sized>(&mut self, bus: &mut B) {
+        let Some(image) = self.cyclic.as_mut() else {
+            return;
+        };
+        if let Some(host) = self.host_sc.as_mut() {
+            for d in &mut image.drives {
+                let end = cyclic::RECORD_HEADER_WORDS.min(d.record.len());
+                if let Some(service) = d.record.get_mut(..end) {
+                    host.transmit(d.address, service);
+                }
+            }
+        }
+        image.write_commands(bus);
+    }
+
     fn phase3<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant, silent: u32) {
         let Some(silent) = self.exchange(bus, silent) else {
             return;
@@ -1176,16 +1374,16 @@ impl Master {
         // The drives take phase 3 from the MST and answer in their phase-3 ATs; S-0-0128
         // ("only in phase 3", sercos-facts.md) is started once every drive's AT has come
         // twice (spec-notes).
-        if !self.drives.iter().all(|d| d.status.ats_received >= 2) {
-            return;
-        }
-        if !self.run_lanes(bus, now) {
-            return;
-        }
-        if self.lanes.iter().all(Lane::is_done) {
+        if self.drives.iter().all(|d| d.status.ats_received >= 2)
+            && self.run_lanes(bus, now)
+            && self.lanes.iter().all(Lane::is_done)
+        {
             self.enter_phase(bus, 4);
             self.state = State::Phase4 { silent: 0 };
             self.lanes.clear();
+        }
+        if matches!(self.state, State::Phase3 { .. } | State::Phase4 { .. }) {
+            self.send_commands(bus);
         }
     }
 
@@ -1196,6 +1394,7 @@ impl Master {
         self.run_lanes(bus, now);
         if matches!(self.state, State::Phase4 { .. }) {
             self.state = State::Phase4 { silent };
+            self.send_commands(bus);
         }
     }
 }
@@ -1252,12 +1451,10 @@ impl HostProgram for Master {
             Wake::Interrupt { .. } => self.serve_flags(bus, now),
             Wake::Deadline => {
                 self.serve_flags(bus, now);
-                if let Some(sc) = self.sc.as_mut() {
-                    for completion in sc.poll(bus, now) {
-                        self.service_requests = self.service_requests.saturating_add(1);
-                        if !self.complete(completion) {
-                            break;
-                        }
+                for completion in self.poll_channel(bus, now).unwrap_or_default() {
+                    self.service_requests = self.service_requests.saturating_add(1);
+                    if !self.complete(completion) {
+                        break;
                     }
                 }
             }
@@ -1269,6 +1466,7 @@ impl HostProgram for Master {
                 self.lanes.clear();
                 self.requeue_tool();
                 self.cyclic = None;
+                self.host_sc = None;
                 self.addressed = None;
                 self.previous = None;
                 for d in &mut self.drives {
@@ -1280,10 +1478,51 @@ impl HostProgram for Master {
             }
         }
         self.serve_flags(bus, now);
-        self.sc
+        let chip = self
+            .sc
             .as_ref()
-            .and_then(ServiceChannelMaster::next_deadline)
+            .and_then(ServiceChannelMaster::next_deadline);
+        let host = self.host_sc.as_ref().and_then(HostRunChannel::next_deadline);
+        chip.into_iter().chain(host).min()
     }
+}
+
+/// The service-container buffer for `cfg`'s ring: the configured size if the smallest layout
+/// (DMA, one MDT container for every record: no data words, 410B §4.2.1/§4.2.2) holds the
+/// ring with it, else the largest that lets it (at least [`MIN_SERVICE_BUFFER_WORDS`]); a
+/// ring that fits no layout is refused here, with the words it needs.
+fn fitting_service_buffer(cfg: &MasterConfig) -> Result<u16, MasterError> {
+    let drives = cfg.drives.len();
+    let n = u32::try_from(drives).unwrap_or(u32::MAX);
+    // With DMA the containers hold no data: the data lengths do not count.
+    let budget = |words: u16| MasterBudget {
+        variant: cfg.variant,
+        at_data_bytes: 0,
+        mdt_data_bytes: 0,
+        buffering: Buffering::Dma,
+        service_buffer_words: words,
+        service_containers: ram_layout::SERVICE_CONTAINERS,
+        noncyclic_block: true,
+        mdt: MdtContainers::Single,
+    };
+    if budget(cfg.service_buffer_words).fits(n) {
+        return Ok(cfg.service_buffer_words);
+    }
+    let floor = MIN_SERVICE_BUFFER_WORDS.min(cfg.service_buffer_words);
+    if let Some(words) = (floor..cfg.service_buffer_words)
+        .rev()
+        .find(|&w| budget(w).fits(n))
+    {
+        return Ok(words);
+    }
+    Err(MasterError::ring(
+        0,
+        MasterErrorKind::RingDoesNotFit {
+            drives,
+            needed: budget(floor).words_needed(n),
+            available: u32::from(cfg.variant.ram_words()),
+        },
+    ))
 }
 
 /// Drive parameters before phase 2 has read them: zero times, no cyclic data.
@@ -1298,18 +1537,6 @@ fn default_params(address: u8) -> DriveParameters {
         at_data_bytes: 0,
         mdt_data_bytes: 0,
     }
-}
-
-fn build_layout(
-    cfg: &MasterConfig,
-    timing: &CycleTiming,
-    blocks: [Option<PhaseGroup>; 2],
-) -> Result<RamLayout, MasterErrorKind> {
-    let mut req = RamLayoutRequest::new(cfg.variant, Role::Master, timing);
-    req.blocks = blocks;
-    req.buffering = cfg.buffering;
-    req.service_buffer_words = cfg.service_buffer_words;
-    ram_layout::build(&req).map_err(MasterErrorKind::Layout)
 }
 
 fn noncyclic_places(layout: &RamLayout) -> Option<NonCyclicPlaces> {

@@ -17,6 +17,10 @@
 //! * [`ServiceChannelSlave`]: serves the slave's container from an
 //!   [`IdnStore`](crate::idn_store::IdnStore).
 //!
+//! * [`HostRunChannel`]: the same requests for drives whose MDT records no service
+//!   container serves (one MDT container for every record): containers in host memory,
+//!   run by the host once per cycle with the chip's rules.
+//!
 //! Where the containers live is a parameter ([`ContainerSlot`]). The readings chosen where
 //! the documents are silent are in `docs/spec-notes.md`, "Driver service channel
 //! (sercdrv)".
@@ -24,6 +28,7 @@
 mod command;
 mod container;
 mod error;
+mod host_run;
 mod master;
 mod request;
 mod slave;
@@ -32,6 +37,7 @@ mod transfer;
 pub use command::CommandStatus;
 pub use container::{ContainerSlot, SlotError};
 pub use error::{ErrorKind, ServiceChannelError};
+pub use host_run::{HostRunChannel, SoftRam};
 pub use master::{ContainerRouter, FixedRouting, ServiceChannelMaster, Wiring};
 pub use request::{
     COMMAND_CANCEL, COMMAND_SET_AND_ENABLE, Completion, ReadLength, Request, Response, Ticket,

@@ -1,0 +1,412 @@
+//! The host-run service channel: service containers kept in the host's memory and run by
+//! the host once per cycle with the chip's master-mode rules (410B §4.2.4, master table), for
+//! drives whose MDT records no service container serves (one MDT transmit container for every
+//! record: no per-drive SVFL/NSV, 410B §4.2.2; spec-notes "Master DMA layout").
+//!
+//! The requests, transfers and errors are the chip-run channel's own: each bank of eight
+//! drives is a [`ServiceChannelMaster`] over eight containers in a [`SoftRam`], so the
+//! scheduler and [`Transfer`](super::transfer) drive them unchanged. Per cycle the host
+//! hands every drive's AT service info (status word, info word) to [`HostRunChannel::receive`]
+//! and takes the MDT service info (control word bits 5-0, info word) from
+//! [`HostRunChannel::transmit`]; between the two, [`HostRunChannel::poll`] finishes and
+//! starts transfers, as the host does after INT_SC_n with the chip's containers.
+
+use sercon_regs::SerconBus;
+use sercon_regs::Variant;
+use sercon_regs::ram::service::{SC_CONTROL_WORDS, ScMaster};
+use sercos_wire::address::DriveAddress;
+use sercos_wire::telegram::{ControlWord, StatusWord};
+use sercos_wire::time::{Duration, Instant};
+
+use super::container::{ContainerSlot, SlotError};
+use super::master::{FixedRouting, ServiceChannelMaster, Wiring};
+use super::request::{Completion, Request, Ticket};
+
+/// Containers per bank: NSV is 3 bits (410B §4.2: SCPT0-7).
+const BANK_CONTAINERS: usize = 8;
+
+/// First word of the containers in a bank's RAM, after the 11 fixed words (410B §4.2).
+const FIRST_CONTAINER: u16 = 16;
+
+/// Tickets of the host-run channel have this bit set, so they never equal the chip-run
+/// channel's (which count from 0).
+const TICKET_TAG: u64 = 1 << 63;
+
+/// A word array that stands for the dual-port RAM of one bank of host-run containers; its
+/// registers read 0 and ignore writes (only the containers' RAM words are used).
+#[derive(Debug, Clone)]
+pub struct SoftRam {
+    words: Vec<u16>,
+}
+
+impl SoftRam {
+    /// A zeroed RAM of `variant`'s size.
+    pub fn new(variant: Variant) -> SoftRam {
+        SoftRam {
+            words: vec![0; usize::from(variant.ram_words())],
+        }
+    }
+}
+
+impl SerconBus for SoftRam {
+    fn read_register(&mut self, _address: u8) -> u16 {
+        0
+    }
+
+    fn write_register(&mut self, _address: u8, _value: u16) {}
+
+    fn read_ram(&mut self, address: u16) -> u16 {
+        self.words.get(usize::from(address)).copied().unwrap_or(0)
+    }
+
+    fn write_ram(&mut self, address: u16, value: u16) {
+        if let Some(w) = self.words.get_mut(usize::from(address)) {
+            *w = value;
+        }
+    }
+}
+
+#[derive(Debug)]
+struct Bank {
+    ram: SoftRam,
+    sc: ServiceChannelMaster<FixedRouting>,
+    /// (drive, its container) of this bank.
+    slots: Vec<(DriveAddress, ContainerSlot)>,
+}
+
+/// The host-run service channel of a set of drives, eight per bank, every drive with its own
+/// container (no routing: all drives can run a transfer at once).
+#[derive(Debug)]
+pub struct HostRunChannel {
+    banks: Vec<Bank>,
+    hs_timeout: u8,
+    busy_timeout: u8,
+}
+
+impl HostRunChannel {
+    /// Containers of `buffer_words` words for `drives` (the order of the banks), with the
+    /// time limit `timeout` per request (as [`ServiceChannelMaster::set_timeout`]).
+    pub fn new(
+        variant: Variant,
+        drives: &[DriveAddress],
+        buffer_words: u16,
+        timeout: Option<Duration>,
+    ) -> Result<HostRunChannel, SlotError> {
+        let stride = (SC_CONTROL_WORDS as u16).saturating_add(buffer_words);
+        let mut banks = Vec::new();
+        for chunk in drives.chunks(BANK_CONTAINERS) {
+            let mut slots = Vec::new();
+            for (nsv, &drive) in (0u8..).zip(chunk) {
+                let address = FIRST_CONTAINER.saturating_add(stride.saturating_mul(u16::from(nsv)));
+                slots.push((
+                    drive,
+                    ContainerSlot::new(variant, nsv, address, buffer_words)?,
+                ));
+            }
+            let mut ram = SoftRam::new(variant);
+            let mut sc = ServiceChannelMaster::new(
+                slots
+                    .iter()
+                    .map(|&(drive, slot)| (slot, Wiring::Drive(drive))),
+            );
+            sc.set_timeout(timeout);
+            sc.init(&mut ram);
+            banks.push(Bank { ram, sc, slots });
+        }
+        Ok(HostRunChannel {
+            banks,
+            hs_timeout: 0,
+            busy_timeout: 0,
+        })
+    }
+
+    /// HS_TIMEOUT / BUSY_TIMEOUT in cycles, as the chip takes them from 0DH (410B §4.1; 0 =
+    /// no timeout).
+    pub fn set_timeouts(&mut self, hs_timeout: u8, busy_timeout: u8) {
+        self.hs_timeout = hs_timeout;
+        self.busy_timeout = busy_timeout;
+    }
+
+    /// Whether `drive` has a host-run container.
+    pub fn serves(&self, drive: DriveAddress) -> bool {
+        self.locate(drive).is_some()
+    }
+
+    fn locate(&self, drive: DriveAddress) -> Option<(usize, ContainerSlot)> {
+        self.banks.iter().enumerate().find_map(|(i, b)| {
+            b.slots
+                .iter()
+                .find(|(d, _)| *d == drive)
+                .map(|&(_, slot)| (i, slot))
+        })
+    }
+
+    /// Queues `request` for `drive`; `None` if the drive has no host-run container.
+    pub fn submit(&mut self, drive: DriveAddress, request: Request) -> Option<Ticket> {
+        let (index, _) = self.locate(drive)?;
+        let bank = self.banks.get_mut(index)?;
+        let inner = bank.sc.submit(drive, request);
+        Some(outer_ticket(index, inner))
+    }
+
+    /// Whether nothing is queued or running.
+    pub fn is_idle(&self) -> bool {
+        self.banks.iter().all(|b| b.sc.is_idle())
+    }
+
+    /// The earliest time limit of a running request.
+    pub fn next_deadline(&self) -> Option<Instant> {
+        self.banks.iter().filter_map(|b| b.sc.next_deadline()).min()
+    }
+
+    /// Drives whose AT showed a new command change bit since the last call.
+    pub fn take_command_changes(&mut self) -> Vec<DriveAddress> {
+        self.banks
+            .iter_mut()
+            .flat_map(|b| b.sc.take_command_changes())
+            .collect()
+    }
+
+    /// Finishes, continues or times out the running transfers and starts pending ones, as
+    /// after the containers' interrupts (410B §4.2.4 M_BUSY: the host's turn).
+    pub fn poll(&mut self, now: Instant) -> Vec<Completion> {
+        let mut done = Vec::new();
+        for (index, bank) in self.banks.iter_mut().enumerate() {
+            for mut c in bank.sc.poll(&mut bank.ram, now) {
+                c.ticket = outer_ticket(index, c.ticket);
+                done.push(c);
+            }
+        }
+        done
+    }
+
+    /// The AT service info of `drive`: `Some([status word, info words…])` received without
+    /// error, `None` errored or missing (410B §4.2.4 RECERR).
+    pub fn receive(&mut self, drive: DriveAddress, record: Option<&[u16]>) {
+        let Some((index, slot)) = self.locate(drive) else {
+            return;
+        };
+        let Some(bank) = self.banks.get_mut(index) else {
+            return;
+        };
+        let mut m = slot.master(&mut bank.ram);
+        match record {
+            Some(record) => {
+                // 410B §4.2.4 RECERR: last transmission was correct.
+                m.recerr = false;
+                take_at(&slot, &mut bank.ram, &mut m, record);
+            }
+            // 410B §4.2.4 RECERR: last transmission was erroneous; nothing is taken.
+            None => m.recerr = true,
+        }
+        slot.store_all(&mut bank.ram, m.to_words());
+    }
+
+    /// Fills `record` (MDT control word, then info words) of `drive` for the next MDT: counts
+    /// the cycle of an unacknowledged step, starts the next step when the last one is
+    /// acknowledged and the host is not awaited, and puts the service bits and info words in
+    /// (410B §4.2.4 master table). Bits 15-6 of the control word are kept.
+    pub fn transmit(&mut self, drive: DriveAddress, record: &mut [u16]) {
+        let Some((index, slot)) = self.locate(drive) else {
+            return;
+        };
+        let (hs_timeout, busy_timeout) = (self.hs_timeout, self.busy_timeout);
+        let Some(bank) = self.banks.get_mut(index) else {
+            return;
+        };
+        let mut m = slot.master(&mut bank.ram);
+        count_cycle(&mut m, hs_timeout, busy_timeout);
+        // 410B §4.2.4 M_BUSY: "Service container waits for interaction of microprocessor";
+        // while it is set no new step starts and the present step is repeated.
+        if acknowledged(&m) && !m.m_busy {
+            // 410B §4.2.4 HS_MDT: toggled for every new step (sercos-telegrams.md MDT
+            // control word bit 0).
+            m.hs_mdt = !m.hs_mdt;
+            // 410B §4.2.4 SETEND: END_MDT on the step reaching the buffer's end.
+            m.end_mdt = m.setend && step_is_final(&m);
+            m.err_cnt = 0;
+            m.busy_cnt = false;
+        }
+        if let Some((first, info)) = record.split_first_mut() {
+            // 410B §4.2.4 HS_MDT, L/S_MDT, END_MDT, ELEM_MDT → MDT control word bits 5-0.
+            *first = (*first & !MDT_SERVICE_BITS)
+                | u16::from(m.hs_mdt)
+                | u16::from(m.ls_mdt) << 1
+                | u16::from(m.end_mdt) << 2
+                | (u16::from(m.elem_mdt) & 7) << 3;
+            // NINFO_WRITE info words from the write buffer at WRDATPT (0 past WRDATLAST).
+            let window = write_window(&m);
+            for (slot_word, position) in info
+                .iter_mut()
+                .zip(window.positions(m.ninfo_write.count()))
+            {
+                *slot_word = position.map_or(0, |p| buffer_word(&slot, &mut bank.ram, p));
+            }
+        }
+        slot.store_all(&mut bank.ram, m.to_words());
+    }
+}
+
+fn outer_ticket(bank: usize, inner: Ticket) -> Ticket {
+    Ticket(TICKET_TAG | ((bank as u64) << 40) | (inner.0 & ((1 << 40) - 1)))
+}
+
+/// MDT control word bits 5-0 (sercos-telegrams.md; ERRATA "service info in a container").
+const MDT_SERVICE_BITS: u16 = ControlWord::MHS
+    | ControlWord::WRITE
+    | ControlWord::LAST_TRANSMISSION
+    | ControlWord::DATA_BLOCK_ELEMENT;
+
+/// The handshake rule: a step is acknowledged when AHS equals MHS and BUSY is 0
+/// (sercos-telegrams.md AT status word bits 0-1; 410B §4.2.4 HS_MDT/HS_AT).
+fn acknowledged(m: &ScMaster) -> bool {
+    m.hs_at == m.hs_mdt && !m.busy_at
+}
+
+/// Present and last position of a buffer (410B §4.2.4 words 2-3), offsets from SCPTn.
+#[derive(Debug, Clone, Copy)]
+struct Window {
+    present: u8,
+    last: u8,
+}
+
+impl Window {
+    /// Whether a step of `count` words reaches the last position.
+    fn is_final(self, count: u8) -> bool {
+        u16::from(self.present) + u16::from(count) > u16::from(self.last)
+    }
+
+    /// The positions a step of `count` words covers (`None` past the last one).
+    fn positions(self, count: u8) -> impl Iterator<Item = Option<u8>> {
+        (0..count).map(move |i| {
+            let position = u16::from(self.present) + u16::from(i);
+            u8::try_from(position).ok().filter(|p| *p <= self.last)
+        })
+    }
+}
+
+fn write_window(m: &ScMaster) -> Window {
+    Window {
+        present: m.pointers.wrdatpt,
+        last: m.pointers.wrdatlast,
+    }
+}
+
+fn read_window(m: &ScMaster) -> Window {
+    Window {
+        present: m.pointers.rddatpt,
+        last: m.pointers.rddatlast,
+    }
+}
+
+fn step_is_final(m: &ScMaster) -> bool {
+    if m.ls_mdt {
+        write_window(m).is_final(m.ninfo_write.count())
+    } else {
+        read_window(m).is_final(m.ninfo_read.count())
+    }
+}
+
+/// Buffer positions start after the control words; below they read 0 and take nothing.
+fn buffer_word(slot: &ContainerSlot, ram: &mut SoftRam, position: u8) -> u16 {
+    if usize::from(position) < SC_CONTROL_WORDS {
+        0
+    } else {
+        slot.buffer_word(ram, position)
+    }
+}
+
+fn store_info(slot: &ContainerSlot, ram: &mut SoftRam, window: Window, count: u8, info: &[u16]) {
+    for (word, position) in info.iter().zip(window.positions(count)) {
+        if let Some(p) = position.filter(|p| usize::from(*p) >= SC_CONTROL_WORDS) {
+            slot.write_buffer(ram, p, &[*word]);
+        }
+    }
+}
+
+/// ERR_CNT / BUSY_CNT of an unacknowledged step and the timeouts (410B §4.2.4; 0DH).
+fn count_cycle(m: &mut ScMaster, hs_timeout: u8, busy_timeout: u8) {
+    if acknowledged(m) {
+        return;
+    }
+    // 410B §4.2.4 BUSY_CNT: the counter counts handshake (0) or BUSY (1) cycles.
+    let counting_busy = m.busy_at;
+    if m.busy_cnt != counting_busy {
+        m.busy_cnt = counting_busy;
+        m.err_cnt = 0;
+    }
+    let previous = m.err_cnt;
+    m.err_cnt = m.err_cnt.saturating_add(1);
+    let limit = if counting_busy {
+        busy_timeout
+    } else {
+        hs_timeout
+    };
+    if limit != 0 && m.err_cnt == limit && previous != limit {
+        if counting_busy {
+            // 410B §4.2.4 INT_BUSY_TIMEOUT.
+            m.int_busy_timeout = true;
+        } else {
+            // 410B §4.2.4 INT_HS_TIMEOUT.
+            m.int_hs_timeout = true;
+        }
+        m.m_busy = true;
+    }
+}
+
+/// Takes the AT's service bits and, on an acknowledged step, its info words (410B §4.2.4
+/// master table, as the chip's container does).
+fn take_at(slot: &ContainerSlot, ram: &mut SoftRam, m: &mut ScMaster, record: &[u16]) {
+    let Some((&status, info)) = record.split_first() else {
+        m.recerr = true;
+        return;
+    };
+    let was_acknowledged = acknowledged(m);
+    let command_change = status & StatusWord::COMMAND_CHANGE != 0;
+    // 410B §4.2.4 INT_CMD: "Slave has set command modification bit".
+    if command_change && !m.cmd_at {
+        m.int_cmd = true;
+    }
+    // 410B §4.2.4 HS_AT, BUSY_AT, ERR_AT, CMD_AT from AT status word bits 0, 1, 2, 5.
+    m.hs_at = status & StatusWord::AHS != 0;
+    m.busy_at = status & StatusWord::BUSY != 0;
+    m.err_at = status & StatusWord::SERVICE_CHANNEL_ERROR != 0;
+    m.cmd_at = command_change;
+    let now_acknowledged = acknowledged(m);
+    if was_acknowledged && !now_acknowledged {
+        // 410B §4.2.4 INT_SC_ERR: the slave withdrew an acknowledgement.
+        m.int_sc_err = true;
+        m.m_busy = true;
+        return;
+    }
+    if was_acknowledged || !now_acknowledged {
+        return;
+    }
+    if m.err_at {
+        // 410B §4.2.4 INT_ERR: the error code is kept at RDDATPT.
+        m.int_err = true;
+        m.m_busy = true;
+        store_info(slot, ram, read_window(m), m.ninfo_read.count(), info);
+        return;
+    }
+    if m.ls_mdt {
+        let window = write_window(m);
+        let count = m.ninfo_write.count();
+        m.pointers.wrdatpt = window.present.saturating_add(count);
+        if window.is_final(count) {
+            // 410B §4.2.4 INT_END_WRBUF.
+            m.int_end_wrbuf = true;
+            m.m_busy = true;
+        }
+    } else {
+        let window = read_window(m);
+        let count = m.ninfo_read.count();
+        store_info(slot, ram, window, count, info);
+        m.pointers.rddatpt = window.present.saturating_add(count);
+        if window.is_final(count) {
+            // 410B §4.2.4 INT_END_RDBUF.
+            m.int_end_rdbuf = true;
+            m.m_busy = true;
+        }
+    }
+}

@@ -1,0 +1,197 @@
+//! The master's layout for large rings: DMA data through the FIFOs at 27H (410B §4.1, §2
+//! DMAREQR/DMAREQT; §4.2.1 DMA) and one MDT transmit container for every record (410B
+//! §4.2.2), with the host-run service channel in phases 3-4 (410B §4.2.4 master table run
+//! by the host; spec-notes "Master DMA layout").
+
+mod master_support;
+
+use master_support::*;
+use sercdrv::master::{CyclicLayout, Master, MasterConfig, MasterErrorKind, Progress};
+use sercdrv::ram_layout::MdtContainers;
+use sercdrv::service_channel::{ErrorKind, Request};
+use sercon_regs::Variant;
+use sercon_regs::ram::header::Buffering;
+use sercos_wire::address::DriveAddress;
+use sercos_wire::idn::Idn;
+use sercos_wire::service_error::ServiceError;
+
+const VELOCITY_COMMAND: Idn = Idn::from_raw(36);
+const POSITION_FEEDBACK: Idn = Idn::from_raw(51);
+
+fn drives(n: usize) -> Vec<DriveAddress> {
+    (1..=n)
+        .filter_map(|a| u8::try_from(a).ok().and_then(DriveAddress::new))
+        .collect()
+}
+
+fn drive(a: u8) -> DriveAddress {
+    DriveAddress::new(a).expect("1-254")
+}
+
+const DMA_SINGLE: CyclicLayout = CyclicLayout {
+    buffering: Buffering::Dma,
+    mdt: MdtContainers::Single,
+};
+
+/// Brings `ring` to phase 4 within `max_cycles` and checks the layout in use.
+fn to_phase4(ring: &mut Ring, max_cycles: u64) {
+    let took = ring.run_to_phase(4, max_cycles);
+    let status = ring.master.borrow().status();
+    assert!(took.is_some(), "no phase 4: {:?}", status.last_error);
+    assert_eq!(status.progress, Progress::Cyclic);
+    assert_eq!(status.restarts, 0, "{:?}", status.last_error);
+    let m = ring.master.borrow();
+    assert_eq!(m.cyclic_layout(), DMA_SINGLE);
+    assert!(m.host_runs_service_channel());
+}
+
+/// Commands out through TFIFO, feedback in through RFIFO, every drive: each drive gets its
+/// own velocity command (410B §4.2.2: the records follow each other in the one container,
+/// S-0-0009 offsets), and each drive's position feedback (S-0-0051, two words) moves at its
+/// own speed every cycle, never a value of another drive or half of two cycles.
+fn exchange_both_ways(ring: &mut Ring, n: usize, cycles: u64) {
+    let addresses = drives(n);
+    {
+        let mut m = ring.master.borrow_mut();
+        for &a in &addresses {
+            m.set_control_word(a, 0xE000).expect("cyclic");
+            // Drive i: i × 10 rpm (S-0-0036, 4 decimal places).
+            let rpm = u64::from(a.get()) * 10;
+            m.set_command(a, VELOCITY_COMMAND, rpm * 10_000)
+                .expect("configured");
+        }
+    }
+    // Let the axes follow (time constant) before measuring.
+    ring.run_cycles(60);
+    let mut last: Vec<i64> = Vec::new();
+    let mut steps: Vec<Vec<i64>> = vec![Vec::new(); n];
+    for c in 0..cycles {
+        ring.run_cycles(1);
+        let m = ring.master.borrow();
+        let now: Vec<i64> = addresses
+            .iter()
+            .map(|&a| m.feedback(a, POSITION_FEEDBACK).expect("feedback") as u32 as i32 as i64)
+            .collect();
+        if c > 0 {
+            for (i, (p, q)) in last.iter().zip(&now).enumerate() {
+                if let Some(s) = steps.get_mut(i) {
+                    s.push((q - p).rem_euclid(1 << 32));
+                }
+            }
+        }
+        last = now;
+    }
+    let status = ring.master.borrow().status();
+    for d in &status.drives {
+        assert!(d.ats_received > 60, "{d:?}");
+    }
+    // The MDT path: every drive holds the command the master sent it.
+    for (node, &a) in ring.drives.iter().zip(&addresses) {
+        let node = node.borrow();
+        let words = node
+            .drive()
+            .database()
+            .get(VELOCITY_COMMAND)
+            .map(|p| p.words().to_vec());
+        let rpm = u32::from(a.get()) * 10 * 10_000;
+        assert_eq!(
+            words,
+            Some(vec![rpm as u16, (rpm >> 16) as u16]),
+            "drive {a}"
+        );
+    }
+    // The AT path: position steps per cycle proportional to the drive's own speed
+    // (degrees per cycle = rpm × 360 / 60 × cycle; S-0-0051 has 4 decimal places). A
+    // value torn between two cycles or taken from another drive breaks the ratio.
+    let cycle_s = ring.cycle.as_picos() as f64 * 1e-12;
+    for (i, s) in steps.iter().enumerate() {
+        let rpm = (i as f64 + 1.0) * 10.0;
+        let expected = rpm * 6.0 * cycle_s * 10_000.0;
+        for step in s {
+            let err = (*step as f64 - expected).abs();
+            assert!(
+                err <= expected * 0.02 + 2.0,
+                "drive {}: step {step}, expected {expected:.1}: {s:?}",
+                i + 1
+            );
+        }
+    }
+}
+
+/// Service requests of a tool to `a` in phase 4: a read (S-0-0002 = the cycle time), a
+/// write and read back (S-0-0036 is cyclic, so S-0-0001's… use the configured list
+/// S-0-0024), and a refusal (an IDN the drive does not have: 1001H).
+fn service_channel_beyond_the_first_eight(ring: &mut Ring, a: DriveAddress, cycle_us: u32) {
+    let (read, write, missing) = {
+        let mut m = ring.master.borrow_mut();
+        let read = m
+            .submit_service(a, Request::read_value(Idn::COMMUNICATION_CYCLE_TIME))
+            .expect("configured drive");
+        // P-0-0100 is not in the standard database: "IDN not present".
+        let missing = m
+            .submit_service(a, Request::read_value(Idn::from_raw(0x8064)))
+            .expect("configured drive");
+        // S-0-0001 (NC cycle time) is writable in phase 4? Use S-0-0011's neighbour
+        // S-0-0134? The list S-0-0024 is written in phase 2; write a read-only one instead
+        // and expect its refusal in the write check below.
+        let write = m
+            .submit_service(
+                a,
+                Request::write_value(Idn::COMMUNICATION_CYCLE_TIME, vec![1000]),
+            )
+            .expect("configured drive");
+        (read, write, missing)
+    };
+    let mut done = Vec::new();
+    for _ in 0..400 {
+        ring.run_cycles(1);
+        done.extend(ring.master.borrow_mut().take_service_completions());
+        if done.len() == 3 {
+            break;
+        }
+    }
+    assert_eq!(done.len(), 3, "{done:?}");
+    let by = |t| done.iter().find(|c| c.ticket == t).expect("completed");
+    let r = by(read).result.clone().expect("S-0-0002 read");
+    assert_eq!(r.words, vec![cycle_us as u16], "S-0-0002 of drive {a}");
+    let e = by(missing).result.clone().expect_err("no such IDN");
+    assert_eq!(e.drive, a);
+    assert_eq!(e.kind, ErrorKind::Drive(ServiceError::IdnNotPresent));
+    // sercos-facts.md: S-0-0002 is write-protected from phase 3 on.
+    let w = by(write).result.clone().expect_err("protected in phase 4");
+    assert!(matches!(w.kind, ErrorKind::Drive(_)), "{w:?}");
+    let status = ring.master.borrow().status();
+    assert_eq!(status.progress, Progress::Cyclic, "{:?}", status.last_error);
+}
+
+// 410B §4.2.1 DMA, §4.2.2, §4.1 27H: a small ring asking for the DMA layout with one MDT
+// container: phase 4, data both ways through the FIFOs, host-run service channel.
+#[test]
+fn twelve_drives_with_dma_and_one_mdt_container() {
+    let n = 12;
+    let mut cfg = MasterConfig::new(Variant::Sercon816, rate(16), 1000, drives(n));
+    cfg.buffering = Buffering::Dma;
+    cfg.mdt_containers = MdtContainers::Single;
+    let mut ring = ring(cfg, standard_drives(n), Vec::new());
+    to_phase4(&mut ring, 8000);
+    exchange_both_ways(&mut ring, n, 20);
+    service_channel_beyond_the_first_eight(&mut ring, drive(11), 1000);
+}
+
+#[test]
+fn a_ring_that_fits_no_layout_is_refused_with_its_words() {
+    // 410B §4.2: 1024 words; 254 drives need at least 7 words each for their AT.
+    let cfg = MasterConfig::new(Variant::Sercon410b, rate(4), 65_000, drives(254));
+    let e = Master::new(cfg).expect_err("does not fit");
+    match e.kind {
+        MasterErrorKind::RingDoesNotFit {
+            drives,
+            needed,
+            available,
+        } => {
+            assert_eq!((drives, available), (254, 1024));
+            assert!(needed > 1024, "{needed}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
