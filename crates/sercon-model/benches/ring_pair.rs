@@ -100,9 +100,15 @@ fn pair() -> Pair {
     }
 }
 
-/// Two chips in a ring, advanced by a conservative event loop: every round advances both to
-/// just before the earliest next event plus the fibre delay (nothing either sends can
-/// arrive earlier), then carries the released output segments over the fibre.
+/// Two chips in a ring, advanced by a conservative event loop with a horizon per chip.
+///
+/// Nothing chip `j` has not sent yet starts before `L_j = min(e_j, e_i + d)`, where `e` is
+/// [`Chip::next_event_at`] (its own next event or queued output) and `e_i + d` the earliest
+/// instant an output of the other chip `i` reaches `j` and may make it send (a repeater, or a
+/// telegram processor that reacts to a frame). So every round advances chip `i` to just
+/// before `L_j + d`, the first instant anything from `j` can arrive, and carries the released
+/// output segments over the fibre. Unlike one horizon for both chips (the minimum of both
+/// `e + d`), a chip's own events bound it only two fibre delays ahead.
 #[derive(Clone)]
 struct Pair {
     chips: [Chip; 2],
@@ -113,26 +119,33 @@ struct Pair {
 
 impl Pair {
     fn run_to(&mut self, until: Instant) {
-        let one = Duration::from_picos(1);
-        while self.now < until {
-            let next_event = self.chips.iter().filter_map(|c| c.next_event_at()).min();
-            // Just before the first instant a segment sent at the next event could arrive.
-            let horizon = next_event.map_or(until, |e| {
-                let arrival = e.saturating_add(self.delay);
-                Instant::ZERO + arrival.saturating_duration_since(Instant::ZERO + one)
-            });
-            let horizon = horizon.max(self.now + one).min(until);
+        let d = self.delay;
+        // Just before `at`: the horizon is exclusive of the first possible arrival.
+        let before = |at: Instant| Instant::from_picos(at.as_picos().saturating_sub(1));
+        while self.chips.iter().any(|c| c.now() < until) {
+            let e = [self.chips[0].next_event_at(), self.chips[1].next_event_at()];
+            // The earliest start of anything chip `j` sends from now on.
+            let sends = |j: usize| {
+                let own = e[j];
+                let reply = e[1 - j].map(|t| t.saturating_add(d));
+                match (own, reply) {
+                    (Some(a), Some(b)) => Some(a.min(b)),
+                    (a, b) => a.or(b),
+                }
+            };
+            let horizon = [0, 1]
+                .map(|i| sends(1 - i).map_or(until, |l| before(l.saturating_add(d)).min(until)));
             for i in 0..2 {
                 let c = &mut self.chips[i];
-                c.advance_to(horizon);
+                c.advance_to(horizon[i]);
                 c.take_line_output(&mut self.buf);
                 let to = &mut self.chips[1 - i];
                 for seg in self.buf.drain(..) {
-                    to.line_input(seg.delayed(self.delay));
+                    to.line_input(seg.delayed(d));
                 }
             }
-            self.now = horizon;
         }
+        self.now = until;
     }
 }
 
