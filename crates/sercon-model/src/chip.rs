@@ -30,12 +30,14 @@ pub struct Chip {
     pub(crate) tp: crate::telegram_processor::TelegramProcessor,
     /// The serial port: transmitter, receiver, repeater (410B §1, §2).
     pub(crate) serial: crate::serial_port::SerialPort,
-    /// The next instant at which the timing control, the watchdog, the telegram processor
-    /// or the serial port has something to do, as [`Chip::advance_to`] left it (`Some`);
-    /// `None` once anything from outside (a bus access, a line input, a pin, a DMA cycle)
-    /// may have changed that. Lets an advance with nothing due, and
-    /// [`Chip::next_event_at`], skip recomputing every component's next tick.
-    pub(crate) next_internal: Option<Option<Instant>>,
+    /// The instant of the next MCLK tick at which the timing control, the watchdog or the
+    /// telegram processor has something to do, as [`Chip::advance_to`] left it (`Some`);
+    /// `None` once anything from outside (a bus access, a pin, a DMA cycle) may have changed
+    /// that. A line input keeps it up to date (it can only add frames). The serial port's
+    /// next change is not part of it: it is read from the port's queues, which every line
+    /// input moves. Lets an advance with nothing due, and [`Chip::next_event_at`], skip
+    /// recomputing every component's next tick.
+    pub(crate) next_core: Option<Option<Instant>>,
     /// Frames of one line input on their way to the telegram processor (reused).
     pub(crate) rx_scratch: Vec<crate::serial_port::RxFrame>,
     /// Last traced levels of DMAREQR / DMAREQT in static mode, and the tick of the last
@@ -73,7 +75,7 @@ impl Chip {
             cyc_clk: false,
             tp: Default::default(),
             serial,
-            next_internal: None,
+            next_core: None,
             rx_scratch: Vec::new(),
             dma_trace: [(false, None); 2],
         }
@@ -102,8 +104,9 @@ impl Chip {
             return;
         }
         if !self.in_reset {
-            if let Some(next) = self.next_internal {
-                debug_assert_eq!(next, self.compute_next_internal(), "stale next_internal");
+            if let Some(core) = self.next_core {
+                debug_assert_eq!(core, self.compute_next_core(), "stale next_core");
+                let next = earliest(core, self.serial_next_loud_event());
                 if next.is_none_or(|n| n > t) {
                     // Nothing due up to `t` but levels of untraced serial-port pins.
                     self.serial_apply_pin_levels(t);
@@ -160,22 +163,16 @@ impl Chip {
             };
             // What is left up to `t` only sets levels of untraced pins (IDLE, REACTN).
             self.serial_apply_pin_levels(t);
-            let next = match (
-                tick.map(|k| self.clock.instant(k)),
-                self.serial_next_loud_event(),
-            ) {
-                (Some(a), Some(b)) => Some(a.min(b)),
-                (a, b) => a.or(b),
-            };
-            debug_assert_eq!(next, self.compute_next_internal());
-            self.next_internal = Some(next);
+            let core = tick.map(|k| self.clock.instant(k));
+            debug_assert_eq!(core, self.compute_next_core());
+            self.next_core = Some(core);
         }
         self.now = t;
     }
 
-    /// The next instant at which the engine, the telegram processor or the serial port
-    /// has something to do (what [`Chip::advance_to`] would process).
-    fn compute_next_internal(&self) -> Option<Instant> {
+    /// The instant of the next MCLK tick at which the engine or the telegram processor has
+    /// something to do.
+    fn compute_next_core(&self) -> Option<Instant> {
         let tick = match (
             self.engine.next_tick(),
             crate::telegram_processor::next_tick(self),
@@ -183,19 +180,23 @@ impl Chip {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         };
-        match (
-            tick.map(|k| self.clock.instant(k)),
-            self.serial_next_loud_event(),
-        ) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        tick.map(|k| self.clock.instant(k))
     }
 
-    /// Something from outside changed the state: the cached next internal instant is
-    /// recomputed at the next advance.
+    /// The next instant at which the engine, the telegram processor or the serial port
+    /// has something to do (what [`Chip::advance_to`] would process).
+    fn next_internal(&self) -> Option<Instant> {
+        let core = match self.next_core {
+            Some(cached) => cached,
+            None => self.compute_next_core(),
+        };
+        earliest(core, self.serial_next_loud_event())
+    }
+
+    /// Something from outside changed the state: the cached next instant of the engine and
+    /// the telegram processor is recomputed at the next advance.
     pub(crate) fn touched(&mut self) {
-        self.next_internal = None;
+        self.next_core = None;
         self.engine.next_memo = None;
     }
 
@@ -228,14 +229,7 @@ impl Chip {
         if self.in_reset {
             return output;
         }
-        let internal = match self.next_internal {
-            Some(cached) => cached,
-            None => self.compute_next_internal(),
-        };
-        match (internal, output) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        earliest(self.next_internal(), output)
     }
 
     /// Chooses which pins produce [`PinEvent`]s from now on.
@@ -445,5 +439,13 @@ impl SerconBus for Chip {
         if let Some(word) = self.ram.get_mut(usize::from(address & mask)) {
             *word = value;
         }
+    }
+}
+
+/// The earlier of two optional instants.
+pub(crate) fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
     }
 }

@@ -26,59 +26,27 @@ impl Chip {
     /// (1H.3 REPON) the segment is forwarded to the output.
     pub fn line_input(&mut self, seg: LineSegment) {
         // A line input leaves the timing control alone; it adds frames for the telegram
-        // processor and changes for the serial port. The cached next internal instant is
-        // kept up to date here when that is exact (see `line_input_next`).
-        let cached = self.next_internal.take();
-        let serial_before = self.serial_next_loud_event();
+        // processor (which can only make its next tick earlier) and changes for the serial
+        // port (read from its queues, not cached).
         // A scratch list kept between inputs: no allocation per segment.
         let mut frames = std::mem::take(&mut self.rx_scratch);
         self.serial.line_input(seg, &mut frames);
         // The telegram processor takes every frame the receiver saw (contract with tp).
-        let mut first_frame: Option<u64> = None;
         for f in frames.drain(..) {
             let tick = self.clock.tick_at_or_after(f.start);
-            first_frame = Some(first_frame.map_or(tick, |t| t.min(tick)));
+            if let Some(core) = self.next_core.as_mut() {
+                let at = self.clock.instant(tick);
+                *core = Some(core.map_or(at, |c| c.min(at)));
+            }
             self.tp.on_rx_frame(tick, f);
         }
         self.rx_scratch = frames;
-        self.next_internal =
-            cached.and_then(|c| self.line_input_next(c, serial_before, first_frame));
         // The engine's pin levels (INT0/1, CONCLK, DIVCLK, WDOGN) do not depend on the
         // receiver or on queued frames: a line input changes none of them at once (its
         // status changes and interrupts follow in `advance_to`), so they are not recomputed.
         debug_assert_eq!(self.engine.levels, self.engine.compute_levels());
         let now = self.now;
         self.advance_to(now);
-    }
-
-    /// The next internal instant after a line input, from the one before (`cached`): the
-    /// processor's next tick can only come earlier (frames are added), and so can the
-    /// serial port's unless the input moved it later (a FIBBR timeout pushed back, changes
-    /// cancelled by a collision); then `None` (recomputed at the next advance).
-    fn line_input_next(
-        &self,
-        cached: Option<Instant>,
-        serial_before: Option<Instant>,
-        first_frame: Option<u64>,
-    ) -> Option<Option<Instant>> {
-        let serial_after = self.serial_next_loud_event();
-        let not_later = match (serial_after, serial_before) {
-            (_, None) => true,
-            (None, Some(_)) => false,
-            (Some(a), Some(b)) => a <= b,
-        };
-        if !not_later {
-            return None;
-        }
-        let earliest = [
-            cached,
-            serial_after,
-            first_frame.map(|k| self.clock.instant(k)),
-        ]
-        .into_iter()
-        .flatten()
-        .min();
-        Some(earliest)
     }
 
     /// Moves the output segments (TxD, in light levels) that start at or before

@@ -180,7 +180,10 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
     // active again (410B §2 "becomes active when data can be written to the transmit
     // FIFO"; spec-notes "Master DMA layout").
     chip.tp.fifo.tx_want = if buffering == Buffering::Dma {
-        list.iter().map(|c| usize::from(c.control.len)).sum::<usize>().min(tlen)
+        list.iter()
+            .map(|c| usize::from(c.control.len))
+            .sum::<usize>()
+            .min(tlen)
     } else {
         0
     };
