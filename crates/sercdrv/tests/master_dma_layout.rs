@@ -6,8 +6,10 @@
 mod master_support;
 
 use master_support::*;
-use sercdrv::master::{CyclicLayout, Master, MasterConfig, MasterErrorKind, Progress};
-use sercdrv::ram_layout::MdtContainers;
+use sercdrv::master::{
+    CyclicLayout, MIN_SERVICE_BUFFER_WORDS, Master, MasterConfig, MasterErrorKind, Progress,
+};
+use sercdrv::ram_layout::{MasterBudget, MdtContainers};
 use sercdrv::service_channel::{ErrorKind, Request};
 use sercon_regs::Variant;
 use sercon_regs::ram::header::Buffering;
@@ -194,4 +196,140 @@ fn a_ring_that_fits_no_layout_is_refused_with_its_words() {
         }
         other => panic!("{other:?}"),
     }
+}
+
+// 410B §4.2: the 410B's 1024 words hold 24 drives with the default layout (double buffer,
+// one MDT container per drive, the captures' telegram type); 30 drives make the master fall
+// back to DMA with one MDT container by itself (MasterConfig::layout_fallback), reach phase
+// 4 at 4 Mbit/s and exchange data both ways, the service channel of drive 29 host-run.
+#[test]
+fn thirty_drives_on_the_410b_fall_back_to_the_dma_layout() {
+    let n = 30;
+    let cfg = MasterConfig::new(Variant::Sercon410b, rate(4), 4000, drives(n));
+    assert_eq!(cfg.buffering, Buffering::Double);
+    let default = MasterBudget::master_default(Variant::Sercon410b, 8, 4);
+    assert!(!default.fits(n as u32));
+    let mut ring = ring(cfg, standard_drives(n), Vec::new());
+    to_phase4(&mut ring, 30_000);
+    exchange_both_ways(&mut ring, n, 10);
+    service_channel_beyond_the_first_eight(&mut ring, drive(29), 4000);
+}
+
+// 410B §4.2 (1024 words) with DMA and one MDT container (410B §4.2.2): per drive only the
+// AT receive header and container (5 + 2 words); the master shrinks the service buffers to
+// 8 words (MIN_SERVICE_BUFFER_WORDS) for the largest ring, 126 drives; 127 fit no layout.
+#[test]
+fn the_410b_holds_126_drives_with_the_dma_layout() {
+    let m = Master::new(MasterConfig::new(
+        Variant::Sercon410b,
+        rate(4),
+        65_000,
+        drives(126),
+    ))
+    .expect("fits");
+    assert_eq!(m.service_buffer_words(), MIN_SERVICE_BUFFER_WORDS);
+    let fitting = MasterBudget {
+        service_buffer_words: MIN_SERVICE_BUFFER_WORDS,
+        ..MasterBudget::master_default(Variant::Sercon410b, 8, 4)
+    };
+    let dma = MasterBudget {
+        buffering: Buffering::Dma,
+        mdt: MdtContainers::Single,
+        ..fitting
+    };
+    assert_eq!(dma.largest_ring(), 126);
+    // 98 drives still fit with the configured 32-word buffers.
+    let m = Master::new(MasterConfig::new(
+        Variant::Sercon410b,
+        rate(4),
+        65_000,
+        drives(98),
+    ))
+    .expect("fits");
+    assert_eq!(m.service_buffer_words(), 32);
+    let e = Master::new(MasterConfig::new(
+        Variant::Sercon410b,
+        rate(4),
+        65_000,
+        drives(127),
+    ))
+    .expect_err("does not fit");
+    assert!(
+        matches!(
+            e.kind,
+            MasterErrorKind::RingDoesNotFit {
+                drives: 127,
+                available: 1024,
+                ..
+            }
+        ),
+        "{e}"
+    );
+}
+
+// 410B §4.2 / 816 §2.3: 2048 words. 254 drives (sercos-telegrams.md ADR 1-254) with the
+// captures' telegram type: the layout with DMA and one MDT container (410B §4.2.2) builds,
+// fits, gives every drive its AT header and its record in the one MDT container, and names
+// no service container in phases 3-4; the master keeps 24-word service buffers for it.
+#[test]
+fn the_254_drive_layout_builds_and_fits_the_816() {
+    use sercdrv::ram_layout::{PhaseGroup, RamLayoutRequest, Role, build_with};
+    use sercdrv::timing::{DriveParameters, TimingRequest, TimingRules, plan_cycle};
+    use sercos_wire::time::BitRate;
+    let m = Master::new(MasterConfig::new(
+        Variant::Sercon816,
+        rate(16),
+        4000,
+        drives(254),
+    ))
+    .expect("fits");
+    assert_eq!(m.service_buffer_words(), 24);
+    let timing = plan_cycle(&TimingRequest {
+        bit_rate: BitRate::Mbit16,
+        cycle_time_us: 5000,
+        nc_cycle_time_us: 5000,
+        drives: (1..=254)
+            .map(|address| DriveParameters {
+                address,
+                t1min_us: 20,
+                t_atmt_us: 20,
+                t5_us: 50,
+                t_mtsy_us: 10,
+                t_mtsg_us: 10,
+                at_data_bytes: 8,
+                mdt_data_bytes: 4,
+            })
+            .collect(),
+        rules: TimingRules::default(),
+    })
+    .expect("254 drives fit 5 ms at 16 Mbit/s");
+    let mut req = RamLayoutRequest::new(Variant::Sercon816, Role::Master, &timing);
+    req.buffering = Buffering::Dma;
+    req.service_buffer_words = 24;
+    let layout = build_with(&req, MdtContainers::Single).expect("fits");
+    assert!(layout.words_used <= 2048, "{}", layout.words_used);
+    assert_eq!(layout.map.drives.len(), 254);
+    let cyclic = layout
+        .map
+        .blocks
+        .iter()
+        .find(|b| b.group == PhaseGroup::Cyclic)
+        .expect("phase 3-4 block");
+    let mdt: Vec<_> = cyclic
+        .telegrams
+        .iter()
+        .filter(|t| t.kind == sercon_regs::ram::header::HeaderKind::Transmit)
+        .collect();
+    assert_eq!(mdt.len(), 1);
+    assert_eq!(mdt[0].containers.len(), 1, "one MDT container");
+    // Record words: control word, service info, S-0-0036 (2 words) = 4 per drive.
+    assert_eq!(mdt[0].containers[0].len, 254 * 4);
+    assert!(
+        layout
+            .map
+            .drives
+            .iter()
+            .all(|d| d.command.nsv.is_none() && d.feedback.nsv.is_none())
+    );
+    assert_eq!(cyclic.telegrams.len(), 255);
 }

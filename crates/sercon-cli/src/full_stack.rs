@@ -19,8 +19,9 @@
 
 use std::time::Instant as WallInstant;
 
-use sercdrv::master::{MasterConfig, Progress};
-use sercdrv::ram_layout::MasterBudget;
+use sercdrv::master::{MIN_SERVICE_BUFFER_WORDS, Progress};
+use sercdrv::ram_layout::{MasterBudget, MdtContainers};
+use sercon_regs::ram::header::Buffering;
 use sercon_regs::Variant;
 use sercos_wire::address::DriveAddress;
 use sercos_wire::telegram::ControlWord;
@@ -237,13 +238,16 @@ pub struct RunningStack {
 const AT_DATA_BYTES: u16 = 8;
 const MDT_DATA_BYTES: u16 = 4;
 
-/// The master's RAM budget for `s` (its default buffering and service buffers).
+/// The master's RAM budget for `s`'s smallest layout: DMA with one MDT container for every
+/// record and the smallest service buffers, which the master falls back to when its default
+/// (double buffer, one MDT container per drive) does not hold the ring
+/// (`MasterConfig::layout_fallback`, spec-notes "Master DMA layout").
 pub fn master_budget(s: &FullStackScenario) -> MasterBudget {
     let spec = s.ring_spec();
-    let cfg = MasterConfig::new(spec.variant, spec.bit_rate, spec.cycle_us, Vec::new());
     MasterBudget {
-        buffering: cfg.buffering,
-        service_buffer_words: cfg.service_buffer_words,
+        buffering: Buffering::Dma,
+        mdt: MdtContainers::Single,
+        service_buffer_words: MIN_SERVICE_BUFFER_WORDS,
         ..MasterBudget::master_default(spec.variant, AT_DATA_BYTES, MDT_DATA_BYTES)
     }
 }
@@ -501,22 +505,14 @@ mod tests {
     }
 
     #[test]
-    fn a_ring_the_masters_ram_cannot_hold_is_refused_before_simulating() {
-        // 410B §4.2: 2048 words; the master's double-buffered default holds 61 drives.
-        match build(&stack_n(254)) {
-            Err(FullStackError::DoesNotFit {
-                drives,
-                needed,
-                available,
-                largest,
-            }) => {
-                assert_eq!((drives, available, largest), (254, 2048, 61));
-                assert!(needed > 2048);
-            }
-            Err(e) => panic!("unexpected error {e}"),
-            Ok(_) => panic!("254 drives built"),
-        }
-        assert!(build(&stack_n(61)).is_ok());
+    fn every_ring_up_to_254_drives_fits_the_816_with_the_dma_layout() {
+        // 410B §4.2 / 816 §2.3: 2048 words; the double-buffered default holds 61 drives,
+        // DMA with one MDT container (410B §4.2.2) all 254 (spec-notes "Master DMA layout").
+        let default = MasterBudget::master_default(Variant::Sercon816, AT_DATA_BYTES, MDT_DATA_BYTES);
+        assert_eq!(default.largest_ring(), 61);
+        assert_eq!(master_budget(&stack_n(254)).largest_ring(), 254);
+        assert!(build(&stack_n(254)).is_ok());
+        assert!(build(&stack_n(62)).is_ok());
     }
 
     #[test]

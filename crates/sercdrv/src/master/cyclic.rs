@@ -229,7 +229,11 @@ impl CyclicImage {
         }
         if leftover || fault {
             // Drain what is left (at most one cycle's words) and drop the cycle.
-            let limit: usize = self.drives.iter().map(|d| usize::from(d.feedback.len)).sum();
+            let limit: usize = self
+                .drives
+                .iter()
+                .map(|d| usize::from(d.feedback.len))
+                .sum();
             let mut drained = 0;
             while leftover && drained < limit {
                 bus.read_reg::<Fifo>();

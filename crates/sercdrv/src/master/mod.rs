@@ -1482,7 +1482,10 @@ impl HostProgram for Master {
             .sc
             .as_ref()
             .and_then(ServiceChannelMaster::next_deadline);
-        let host = self.host_sc.as_ref().and_then(HostRunChannel::next_deadline);
+        let host = self
+            .host_sc
+            .as_ref()
+            .and_then(HostRunChannel::next_deadline);
         chip.into_iter().chain(host).min()
     }
 }

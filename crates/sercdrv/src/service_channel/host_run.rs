@@ -236,9 +236,8 @@ impl HostRunChannel {
                 | (u16::from(m.elem_mdt) & 7) << 3;
             // NINFO_WRITE info words from the write buffer at WRDATPT (0 past WRDATLAST).
             let window = write_window(&m);
-            for (slot_word, position) in info
-                .iter_mut()
-                .zip(window.positions(m.ninfo_write.count()))
+            for (slot_word, position) in
+                info.iter_mut().zip(window.positions(m.ninfo_write.count()))
             {
                 *slot_word = position.map_or(0, |p| buffer_word(&slot, &mut bank.ram, p));
             }

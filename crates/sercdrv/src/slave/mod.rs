@@ -107,6 +107,11 @@ pub struct SlaveDriver<D> {
     command: Vec<u8>,
     /// The feedback data of the cycle, reused every cycle.
     feedback: Vec<u8>,
+    /// CMD_AT as last written into the service container (`None`: not known, read it):
+    /// only the driver writes it (spec-notes "Service containers": the chip never does in
+    /// slave mode) and the service server keeps it when it stores word 0, so it is written
+    /// only when the status word's bit 5 changes, not read back every cycle.
+    cmd_at: Option<bool>,
 }
 
 impl<D: SlaveDevice> SlaveDriver<D> {
@@ -150,6 +155,7 @@ impl<D: SlaveDevice> SlaveDriver<D> {
             events: Vec::new(),
             command: Vec::new(),
             feedback: Vec::new(),
+            cmd_at: None,
         })
     }
 
@@ -262,6 +268,8 @@ impl<D: SlaveDevice> SlaveDriver<D> {
             bus.write_ram(w.address, w.word);
         }
         self.service.init(bus);
+        // 410B §4.2.4 slave table: the container starts with CMD_AT = 0 (init above).
+        self.cmd_at = Some(false);
         // 410B §4.1 0FH/10H TSCYC0/1, µs; the phase 3-4 value follows S-0-0002.
         let cycle = u16::try_from(c.noncyclic_cycle_us).unwrap_or(u16::MAX);
         bus.write(Register::Tscyc0, cycle);
@@ -298,7 +306,13 @@ impl<D: SlaveDevice> SlaveDriver<D> {
         if self.state != State::Running {
             return;
         }
-        for _ in 0..MAX_ROUNDS {
+        for round in 0..MAX_ROUNDS {
+            // 410B §4.1 3H.0 INTFL0: after a round, one read says whether an enabled flag
+            // (all the driver's are on INT0) was raised while serving; only then are 4H/5H
+            // read again.
+            if round > 0 && !bus.read_reg::<Ctrl3>().contains(Ctrl3::INTFL0) {
+                break;
+            }
             let lo = bus.read_reg::<IntFlagsLo>() & SERVED_LO;
             let hi = bus.read_reg::<IntFlagsHi>() & self.sc_flag();
             if lo.is_empty() && hi.is_empty() {
@@ -583,8 +597,11 @@ impl<D: SlaveDevice> SlaveDriver<D> {
             places.write_feedback(bus, status, &self.feedback);
         }
         // ERRATA "service info in a container": status bit 5 is CMD_AT of the container.
-        self.service
-            .set_command_change(bus, status & StatusWord::COMMAND_CHANGE != 0);
+        let cmd_at = status & StatusWord::COMMAND_CHANGE != 0;
+        if self.cmd_at != Some(cmd_at) {
+            self.service.set_command_change(bus, cmd_at);
+            self.cmd_at = Some(cmd_at);
+        }
     }
 }
 
@@ -593,6 +610,11 @@ impl<D: SlaveDevice> HostProgram for SlaveDriver<D> {
         // A power-on restarts the host processor with a chip fresh out of reset: start over.
         if matches!(why, Wake::Start | Wake::PowerOn) || self.state == State::Idle {
             self.start(bus, now);
+        } else if let Wake::Interrupt { int0: false, .. } = why {
+            // 410B §4.1 3H.0-2, 6H/7H: every flag the driver serves is enabled on INT0 and
+            // nothing else is, 1-active (POLINT0 = 0): INT0 low (its flags were just
+            // cleared) means there is nothing to serve, so 4H/5H are not read.
+            return None;
         }
         self.on_interrupt(bus, now);
         None
