@@ -21,8 +21,8 @@ use std::time::Instant as WallInstant;
 
 use sercdrv::master::{MIN_SERVICE_BUFFER_WORDS, Progress};
 use sercdrv::ram_layout::{MasterBudget, MdtContainers};
-use sercon_regs::ram::header::Buffering;
 use sercon_regs::Variant;
+use sercon_regs::ram::header::Buffering;
 use sercos_wire::address::DriveAddress;
 use sercos_wire::telegram::ControlWord;
 use sercos_wire::time::{BitRate, Duration, Instant};
@@ -508,7 +508,8 @@ mod tests {
     fn every_ring_up_to_254_drives_fits_the_816_with_the_dma_layout() {
         // 410B §4.2 / 816 §2.3: 2048 words; the double-buffered default holds 61 drives,
         // DMA with one MDT container (410B §4.2.2) all 254 (spec-notes "Master DMA layout").
-        let default = MasterBudget::master_default(Variant::Sercon816, AT_DATA_BYTES, MDT_DATA_BYTES);
+        let default =
+            MasterBudget::master_default(Variant::Sercon816, AT_DATA_BYTES, MDT_DATA_BYTES);
         assert_eq!(default.largest_ring(), 61);
         assert_eq!(master_budget(&stack_n(254)).largest_ring(), 254);
         assert!(build(&stack_n(254)).is_ok());
