@@ -96,12 +96,7 @@ impl Engine {
     /// Recomputes the levels; returns the bit mask of pins that changed.
     pub(crate) fn update_levels(&mut self) -> u8 {
         let new = self.compute_levels();
-        let mut changed = 0u8;
-        for (i, (old, now)) in self.levels.iter().zip(new.iter()).enumerate() {
-            if old != now {
-                changed |= 1 << i;
-            }
-        }
+        let changed = mask(&self.levels) ^ mask(&new);
         self.levels = new;
         changed
     }
@@ -189,4 +184,12 @@ impl Engine {
             _ => 0,
         }
     }
+}
+
+/// The levels as a bit mask (bit `i` = pin `i` of [`DRIVEN`] high).
+fn mask(levels: &Levels) -> u8 {
+    levels
+        .iter()
+        .enumerate()
+        .fold(0, |m, (i, l)| m | (u8::from(*l) << i))
 }

@@ -227,6 +227,10 @@ impl SerialPort {
 
     /// Releases the output segments that start at or before `now` and moves them to `out`.
     pub(crate) fn take_output(&mut self, now: Instant, out: &mut Vec<LineSegment>) {
+        if self.tx.next_release_at().is_none_or(|t| t > now) && self.tx.nothing_released() {
+            // Most turns of an event loop: nothing to hand over.
+            return;
+        }
         self.tx.release(now);
         self.tx.take_released(out);
     }

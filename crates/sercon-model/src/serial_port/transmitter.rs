@@ -198,6 +198,11 @@ impl Transmitter {
         self.last_out = Some(seg);
     }
 
+    /// Whether no released segment waits to be taken.
+    pub(crate) fn nothing_released(&self) -> bool {
+        self.released.is_empty()
+    }
+
     /// Moves the released segments to the end of `out`.
     pub(crate) fn take_released(&mut self, out: &mut Vec<LineSegment>) {
         if self.released.is_empty() {

@@ -33,6 +33,12 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
     } else {
         accept(chip, tick, &frame.bytes)
     };
+    if role == RxRole::Ignored {
+        // Its end would change nothing (`frame_end` of an ignored frame only frees the
+        // bytes, and nothing else asks for an ignored frame in progress): no event for it.
+        chip.serial.recycle(frame.bytes);
+        return;
+    }
     chip.tp.rx_now = Some(RxNow {
         frame,
         end_tick,
