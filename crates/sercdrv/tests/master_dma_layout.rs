@@ -120,9 +120,10 @@ fn exchange_both_ways(ring: &mut Ring, n: usize, cycles: u64) {
     }
 }
 
-/// Service requests of a tool to `a` in phase 4: a read (S-0-0002 = the cycle time), a
-/// write and read back (S-0-0036 is cyclic, so S-0-0001's… use the configured list
-/// S-0-0024), and a refusal (an IDN the drive does not have: 1001H).
+/// Service requests of a tool to `a` in phase 4 through the host-run channel
+/// (sercos-facts.md service channel): a read (S-0-0002 = the cycle time), a read of an IDN
+/// the drive does not have (its error answer 1001H) and a write refused by the drive
+/// (S-0-0002 is write-protected from phase 3 on).
 fn service_channel_beyond_the_first_eight(ring: &mut Ring, a: DriveAddress, cycle_us: u32) {
     let (read, write, missing) = {
         let mut m = ring.master.borrow_mut();
@@ -133,9 +134,6 @@ fn service_channel_beyond_the_first_eight(ring: &mut Ring, a: DriveAddress, cycl
         let missing = m
             .submit_service(a, Request::read_value(Idn::from_raw(0x8064)))
             .expect("configured drive");
-        // S-0-0001 (NC cycle time) is writable in phase 4? Use S-0-0011's neighbour
-        // S-0-0134? The list S-0-0024 is written in phase 2; write a read-only one instead
-        // and expect its refusal in the write check below.
         let write = m
             .submit_service(
                 a,

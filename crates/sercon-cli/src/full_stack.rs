@@ -252,6 +252,17 @@ pub fn master_budget(s: &FullStackScenario) -> MasterBudget {
     }
 }
 
+/// Cycles of phase 2 per drive a phase-up may take: phase 2 talks to one drive at a time
+/// (one MDT per cycle), about 36 requests per drive at about 10 cycles each (measured with
+/// `sercon ring --drives 254`: 508 requests in 5000 cycles).
+pub const PHASE_UP_CYCLES_PER_DRIVE: u64 = 400;
+
+/// Simulated time a ring of `drives` at `cycle_us` may take to reach phase 4.
+pub fn phase_up_allowance(drives: u8, cycle_us: u32) -> Duration {
+    Duration::from_micros(u64::from(cycle_us))
+        .saturating_mul(PHASE_UP_CYCLES_PER_DRIVE.saturating_mul(u64::from(drives)))
+}
+
 /// Builds `s`'s ring (the phase-up not yet run), refusing at once a ring whose layout the
 /// master's RAM cannot hold.
 pub fn build(s: &FullStackScenario) -> Result<BuiltRing, FullStackError> {
@@ -311,7 +322,8 @@ impl RunningStack {
     pub fn start(s: &FullStackScenario) -> Result<RunningStack, FullStackError> {
         let mut spec = s.ring_spec();
         if s.drives > 8 {
-            spec.phase_up_limit = Duration::from_secs(300);
+            spec.phase_up_limit =
+                Duration::from_secs(300).max(phase_up_allowance(s.drives, s.cycle_us));
         }
         let cycle = Duration::from_micros(u64::from(s.cycle_us));
         let wall = WallInstant::now();

@@ -64,6 +64,11 @@ impl RingShape {
         if let Some(c) = self.cycle_us {
             spec.cycle_us = c;
         }
+        if let Some(n) = self.drives {
+            // Phase 2 talks to one drive at a time: a large ring needs longer to phase 4.
+            let allowance = sercon_cli::full_stack::phase_up_allowance(n, spec.cycle_us);
+            spec.phase_up_limit = spec.phase_up_limit.max(allowance);
+        }
         Ok(spec)
     }
 }
