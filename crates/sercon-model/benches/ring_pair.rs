@@ -7,15 +7,21 @@
 // criterion_group! generates an undocumented pub fn.
 #![allow(missing_docs)]
 
+// The event loop, shared with the test that checks it against a stepped run
+// (tests/pair_horizons.rs).
+#[path = "support/pair_loop.rs"]
+mod pair_loop;
+
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group};
-use sercon_model::serial_port::LineSegment;
 use sercon_model::{Chip, ChipConfig};
 use sercon_regs::ram::container::ContainerControl;
 use sercon_regs::ram::header::{EndMarker, RxHeader, TxEnable, TxHeader};
 use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
 use sercos_wire::time::{Duration, Instant};
+
+use pair_loop::Pair;
 
 /// 410B §4.1 0CH.0 MSTEN, 0CH.1 MSTMASTER, 0CH.10 CYCSTART; 3H.8 ENTMT; 1H.3 REPON.
 const MSTEN: u16 = 1 << 0;
@@ -92,61 +98,7 @@ fn pair() -> Pair {
     m.write(Register::Phas, 0x0404);
     m.write(Register::Ctrl3, ENTMT);
     m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
-    Pair {
-        chips: [m, s],
-        delay: Duration::from_micros(1),
-        now: Instant::ZERO,
-        buf: Vec::new(),
-    }
-}
-
-/// Two chips in a ring, advanced by a conservative event loop with a horizon per chip.
-///
-/// Nothing chip `j` has not sent yet starts before `L_j = min(e_j, e_i + d)`, where `e` is
-/// [`Chip::next_event_at`] (its own next event or queued output) and `e_i + d` the earliest
-/// instant an output of the other chip `i` reaches `j` and may make it send (a repeater, or a
-/// telegram processor that reacts to a frame). So every round advances chip `i` to just
-/// before `L_j + d`, the first instant anything from `j` can arrive, and carries the released
-/// output segments over the fibre. Unlike one horizon for both chips (the minimum of both
-/// `e + d`), a chip's own events bound it only two fibre delays ahead.
-#[derive(Clone)]
-struct Pair {
-    chips: [Chip; 2],
-    delay: Duration,
-    now: Instant,
-    buf: Vec<LineSegment>,
-}
-
-impl Pair {
-    fn run_to(&mut self, until: Instant) {
-        let d = self.delay;
-        // Just before `at`: the horizon is exclusive of the first possible arrival.
-        let before = |at: Instant| Instant::from_picos(at.as_picos().saturating_sub(1));
-        while self.chips.iter().any(|c| c.now() < until) {
-            let e = [self.chips[0].next_event_at(), self.chips[1].next_event_at()];
-            // The earliest start of anything chip `j` sends from now on.
-            let sends = |j: usize| {
-                let own = e[j];
-                let reply = e[1 - j].map(|t| t.saturating_add(d));
-                match (own, reply) {
-                    (Some(a), Some(b)) => Some(a.min(b)),
-                    (a, b) => a.or(b),
-                }
-            };
-            let horizon = [0, 1]
-                .map(|i| sends(1 - i).map_or(until, |l| before(l.saturating_add(d)).min(until)));
-            for i in 0..2 {
-                let c = &mut self.chips[i];
-                c.advance_to(horizon[i]);
-                c.take_line_output(&mut self.buf);
-                let to = &mut self.chips[1 - i];
-                for seg in self.buf.drain(..) {
-                    to.line_input(seg.delayed(d));
-                }
-            }
-        }
-        self.now = until;
-    }
+    Pair::new([m, s], Duration::from_micros(1))
 }
 
 fn bench(c: &mut Criterion) {

@@ -1,0 +1,77 @@
+//! Two chips back to back (chip 0's output to chip 1's input and back, one fibre delay each
+//! way), advanced by a conservative event loop with a horizon per chip. Used by the
+//! `ring_pair` bench and checked against a stepped run by `tests/pair_horizons.rs`.
+
+use sercon_model::Chip;
+use sercon_model::serial_port::LineSegment;
+use sercos_wire::time::{Duration, Instant};
+
+/// Two chips in a ring, advanced by a conservative event loop with a horizon per chip.
+///
+/// Nothing chip `j` has not sent yet starts before `L_j = min(e_j, e_i + d)`, where `e` is
+/// [`Chip::next_event_at`] (its own next event or queued output) and `e_i + d` the earliest
+/// instant an output of the other chip `i` reaches `j` and may make it send (a repeater, or a
+/// telegram processor that reacts to a frame). So every round advances chip `i` to just
+/// before `L_j + d`, the first instant anything from `j` can arrive, and carries the released
+/// output segments over the fibre. Unlike one horizon for both chips (the minimum of both
+/// `e + d`), a chip's own events bound it only two fibre delays ahead.
+#[derive(Clone)]
+pub struct Pair {
+    /// The two chips: 0 sends to 1, 1 sends to 0.
+    pub chips: [Chip; 2],
+    /// Fibre delay, each way (must be more than 0).
+    pub delay: Duration,
+    /// The instant both chips have reached.
+    pub now: Instant,
+    /// Every output segment handed over, with the number of the chip that sent it, when
+    /// `Some` (for tests).
+    pub log: Option<Vec<(usize, LineSegment)>>,
+    buf: Vec<LineSegment>,
+}
+
+impl Pair {
+    /// `chips` wired back to back at time 0 with `delay` of fibre each way.
+    pub fn new(chips: [Chip; 2], delay: Duration) -> Pair {
+        Pair {
+            chips,
+            delay,
+            now: Instant::ZERO,
+            log: None,
+            buf: Vec::new(),
+        }
+    }
+
+    /// Runs both chips to `until`.
+    pub fn run_to(&mut self, until: Instant) {
+        let d = self.delay;
+        // Just before `at`: the horizon is exclusive of the first possible arrival.
+        let before = |at: Instant| Instant::from_picos(at.as_picos().saturating_sub(1));
+        while self.chips.iter().any(|c| c.now() < until) {
+            let e = [self.chips[0].next_event_at(), self.chips[1].next_event_at()];
+            // The earliest start of anything chip `j` sends from now on.
+            let sends = |j: usize| {
+                let own = e[j];
+                let reply = e[1 - j].map(|t| t.saturating_add(d));
+                match (own, reply) {
+                    (Some(a), Some(b)) => Some(a.min(b)),
+                    (a, b) => a.or(b),
+                }
+            };
+            let horizon = [0, 1]
+                .map(|i| sends(1 - i).map_or(until, |l| before(l.saturating_add(d)).min(until)));
+            for (i, h) in horizon.into_iter().enumerate() {
+                let c = &mut self.chips[i];
+                c.advance_to(h);
+                c.take_line_output(&mut self.buf);
+                let to = &mut self.chips[1 - i];
+                for seg in self.buf.drain(..) {
+                    if let Some(log) = self.log.as_mut() {
+                        log.push((i, seg.clone()));
+                    }
+                    to.line_input(seg.delayed(d));
+                }
+            }
+        }
+        self.now = until;
+    }
+}
