@@ -28,6 +28,8 @@ mod device;
 mod error;
 mod events;
 mod parameters;
+#[cfg(test)]
+mod wake_tests;
 
 pub use config::{DEFAULT_NONCYCLIC_CYCLE_US, DEFAULT_SCLK_HZ, SlaveConfig};
 pub use cyclic::RecordPlaces;
