@@ -11,7 +11,6 @@ use sercos_wire::time::Instant;
 
 use crate::clock::NodeClock;
 use crate::config::NodeConfig;
-use crate::event_queue::EventHandle;
 use crate::host::{HostProgram, NodeBus, Wake};
 
 /// 410B §4.1 1H.3 REPON.
@@ -54,7 +53,7 @@ pub(crate) struct Node {
     /// The chip repeats its input (1H.3 REPON, transmitter on, no test mode).
     pub(crate) repeating: bool,
     /// The pending wake event.
-    pub(crate) wake: Option<(Instant, EventHandle)>,
+    pub(crate) wake: Option<Instant>,
     /// Index in the VCD, if traced.
     pub(crate) vcd: Option<usize>,
     /// The host is running (or has not started yet): it is not woken again meanwhile.

@@ -20,7 +20,6 @@ use std::sync::Arc;
 use crate::clock::NodeClock;
 use crate::config::{Delivery, MAX_SLAVES, SimConfig};
 use crate::error::SimError;
-use crate::event_queue::{ComponentId, EventQueue};
 use crate::fault::{Fault, FaultKind, SegmentFaults, ppm_to_ppb};
 use crate::host::{HostProgram, Wake};
 use crate::node::{Node, repeats};
@@ -28,6 +27,9 @@ use crate::recorder::{Recorder, TraceOutput};
 use crate::topology::Topology;
 
 mod host_run;
+mod wake_queue;
+
+use wake_queue::WakeQueue;
 
 /// Rounds of "serve the nodes an event touched" per event before giving up on quiet.
 const MAX_SETTLE_ROUNDS: usize = 1024;
@@ -75,7 +77,7 @@ pub struct Simulation {
     nodes: Vec<Node>,
     segments: Vec<Segment>,
     faults: Vec<Fault>,
-    queue: EventQueue<Ev>,
+    queue: WakeQueue,
     recorder: Recorder,
     stats: SimStats,
     touched: Vec<usize>,
@@ -208,6 +210,17 @@ impl Simulation {
                     && nodes.get(k).is_some_and(|nd| nd.off_windows.is_empty())
             })
             .collect();
+        let mut fault_events = Vec::with_capacity(2 * cfg.faults.len());
+        for (i, f) in cfg.faults.iter().enumerate() {
+            fault_events.push((f.at, Ev::FaultStart(i)));
+            let end = match f.kind {
+                FaultKind::FibreBreak { until, .. } | FaultKind::PowerOff { until, .. } => until,
+                _ => None,
+            };
+            if let Some(e) = end {
+                fault_events.push((e.max(f.at), Ev::FaultEnd(i)));
+            }
+        }
         let mut sim = Simulation {
             out_floors: vec![Instant::ZERO; n],
             seg_delays: seg_delays.clone(),
@@ -218,7 +231,7 @@ impl Simulation {
             nodes,
             segments,
             faults: cfg.faults,
-            queue: EventQueue::new(),
+            queue: WakeQueue::new(n, fault_events),
             recorder,
             stats: SimStats::default(),
             touched: Vec::new(),
@@ -232,17 +245,6 @@ impl Simulation {
             host_nesting: 0,
             held_error: None,
         };
-        for (i, f) in sim.faults.iter().enumerate() {
-            let target = ComponentId(u32::try_from(n + i).unwrap_or(u32::MAX));
-            sim.queue.schedule(f.at, target, Ev::FaultStart(i))?;
-            let end = match f.kind {
-                FaultKind::FibreBreak { until, .. } | FaultKind::PowerOff { until, .. } => until,
-                _ => None,
-            };
-            if let Some(e) = end {
-                sim.queue.schedule(e.max(f.at), target, Ev::FaultEnd(i))?;
-            }
-        }
         sim.start_hosts();
         sim.settle()?;
         if let Some(e) = sim.held_error.take() {
@@ -323,18 +325,18 @@ impl Simulation {
     }
 
     /// Runs one event of the queue and serves the nodes it touched.
-    fn process(&mut self, ev: crate::event_queue::Event<Ev>) -> Result<(), SimError> {
-        self.now = self.now.max(ev.time);
+    fn process(&mut self, (time, ev): (Instant, Ev)) -> Result<(), SimError> {
+        self.now = self.now.max(time);
         self.stats.events += 1;
-        match ev.payload {
+        match ev {
             Ev::Node(j) => {
                 if let Some(node) = self.nodes.get_mut(j) {
                     node.wake = None;
                 }
-                self.advance_node(j, ev.time);
+                self.advance_node(j, time);
             }
-            Ev::FaultStart(i) => self.fault_start(i, ev.time)?,
-            Ev::FaultEnd(i) => self.fault_end(i, ev.time)?,
+            Ev::FaultStart(i) => self.fault_start(i, time)?,
+            Ev::FaultEnd(i) => self.fault_end(i, time)?,
         }
         self.settle()?;
         if let Some(e) = self.held_error.take() {
@@ -708,27 +710,23 @@ impl Simulation {
             }
         }
         let global = next.map(|l| node.clock.to_global(l).max(now));
-        if node.wake.map(|w| w.0) == global {
+        if node.wake == global {
             return Ok(());
         }
-        if let Some((_, h)) = node.wake.take() {
-            self.queue.cancel(h);
-        }
-        if let Some(g) = global {
-            // A deadline that does not move on would be served again at once: one picosecond
-            // later at least, so that time always advances.
-            let g = if g <= node.clock.to_global(node.chip.now()) && g <= now {
-                now.saturating_add(Duration::from_picos(1))
-            } else {
-                g
-            };
-            let h = self.queue.schedule(
-                g,
-                ComponentId(u32::try_from(j).unwrap_or(u32::MAX)),
-                Ev::Node(j),
-            )?;
-            node.wake = Some((g, h));
-        }
+        let Some(g) = global else {
+            node.wake = None;
+            self.queue.remove(j);
+            return Ok(());
+        };
+        // A deadline that does not move on would be served again at once: one picosecond
+        // later at least, so that time always advances.
+        let g = if g <= node.clock.to_global(node.chip.now()) && g <= now {
+            now.saturating_add(Duration::from_picos(1))
+        } else {
+            g
+        };
+        self.queue.set(j, g);
+        node.wake = Some(g);
         Ok(())
     }
 
@@ -753,8 +751,8 @@ impl Simulation {
                 self.settle()?;
                 if let Some(n) = self.nodes.get_mut(node) {
                     n.powered = false;
-                    if let Some((_, h)) = n.wake.take() {
-                        self.queue.cancel(h);
+                    if n.wake.take().is_some() {
+                        self.queue.remove(node);
                     }
                     n.expect.clear();
                 }

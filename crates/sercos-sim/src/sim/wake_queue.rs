@@ -1,0 +1,278 @@
+//! The simulation's own queue: at most one pending wake per node, kept in an indexed binary
+//! heap (a new wake moves the node's entry up or down instead of leaving a cancelled key
+//! behind), and the fault events, all known when the simulation is built, in one sorted list.
+//!
+//! It hands out events in exactly the order of the general [`crate::event_queue::EventQueue`]
+//! with nodes as components `0..n` and fault `i` as component `n + i` (DESIGN.md: the same
+//! configuration gives the same run): earlier time first; at the same time the lower
+//! component, so every node before every fault; a fault's start before its end. A node has
+//! one wake at a time, so (time, node) is unique and no sequence number is needed.
+
+use sercos_wire::time::Instant;
+
+use super::Ev;
+
+/// `pos` of a node without a pending wake.
+const ABSENT: u32 = u32::MAX;
+
+/// A heap entry: the wake's time in ps above the node's index, so that one comparison orders
+/// by (time, node).
+type Key = u128;
+
+fn key(t: Instant, node: u32) -> Key {
+    (u128::from(t.as_picos()) << 32) | u128::from(node)
+}
+
+fn key_time(k: Key) -> u64 {
+    // The upper bits hold a u64: nothing is cut off.
+    (k >> 32) as u64
+}
+
+fn key_node(k: Key) -> u32 {
+    // The lower 32 bits are the node.
+    k as u32
+}
+
+/// Node wakes and fault events in the simulation's deterministic order.
+#[derive(Debug, Clone, Default)]
+pub(super) struct WakeQueue {
+    /// Min-heap of (time, node) keys.
+    heap: Vec<Key>,
+    /// Where each node's entry is in `heap` ([`ABSENT`] without one).
+    pos: Vec<u32>,
+    /// Fault events sorted by (time, fault, start before end).
+    faults: Vec<(u64, Ev)>,
+    /// The next fault event not yet handed out.
+    next_fault: usize,
+}
+
+impl WakeQueue {
+    /// A queue for `nodes` nodes and the given fault events (time, `FaultStart`/`FaultEnd`),
+    /// listed per fault in the order they were scheduled.
+    pub(super) fn new(nodes: usize, faults: Vec<(Instant, Ev)>) -> Self {
+        let mut faults: Vec<(u64, Ev)> =
+            faults.into_iter().map(|(t, e)| (t.as_picos(), e)).collect();
+        // Stable: a fault's start (listed first) stays before its end at the same time.
+        faults.sort_by_key(|(t, e)| {
+            (
+                *t,
+                match e {
+                    Ev::FaultStart(i) | Ev::FaultEnd(i) => *i,
+                    Ev::Node(_) => 0,
+                },
+            )
+        });
+        WakeQueue {
+            heap: Vec::with_capacity(nodes),
+            pos: vec![ABSENT; nodes],
+            faults,
+            next_fault: 0,
+        }
+    }
+
+    /// The time of the next event, if any.
+    pub(super) fn peek_time(&self) -> Option<Instant> {
+        let wake = self.heap.first().map(|k| key_time(*k));
+        let fault = self.faults.get(self.next_fault).map(|e| e.0);
+        let t = match (wake, fault) {
+            (Some(a), Some(b)) => a.min(b),
+            (a, b) => a.or(b)?,
+        };
+        Some(Instant::from_picos(t))
+    }
+
+    /// Takes the next event if it happens at or before `limit`.
+    pub(super) fn pop_until(&mut self, limit: Instant) -> Option<(Instant, Ev)> {
+        let limit = limit.as_picos();
+        let wake = self.heap.first().copied().filter(|k| key_time(*k) <= limit);
+        let fault = self
+            .faults
+            .get(self.next_fault)
+            .copied()
+            .filter(|e| e.0 <= limit);
+        match (wake, fault) {
+            // At the same time a node (component < n) runs before any fault (n + i).
+            (Some(k), f) if f.is_none_or(|f| key_time(k) <= f.0) => {
+                let j = key_node(k) as usize;
+                self.remove(j);
+                Some((Instant::from_picos(key_time(k)), Ev::Node(j)))
+            }
+            (_, Some((t, e))) => {
+                self.next_fault += 1;
+                Some((Instant::from_picos(t), e))
+            }
+            _ => None,
+        }
+    }
+
+    /// Sets node `j`'s one pending wake to `at` (replacing any earlier one).
+    pub(super) fn set(&mut self, j: usize, at: Instant) {
+        let (Some(p), Ok(node)) = (self.pos.get(j).copied(), u32::try_from(j)) else {
+            return;
+        };
+        let k = key(at, node);
+        if p == ABSENT {
+            let i = self.heap.len();
+            self.heap.push(k);
+            self.sift_up(i, k);
+        } else if let Some(&old) = self.heap.get(p as usize) {
+            if k < old {
+                self.sift_up(p as usize, k);
+            } else {
+                self.sift_down(p as usize, k);
+            }
+        }
+    }
+
+    /// Removes node `j`'s pending wake, if any.
+    pub(super) fn remove(&mut self, j: usize) {
+        let Some(p) = self.pos.get_mut(j) else {
+            return;
+        };
+        if *p == ABSENT {
+            return;
+        }
+        let i = *p as usize;
+        *p = ABSENT;
+        let Some(last) = self.heap.pop() else {
+            return;
+        };
+        if i < self.heap.len() {
+            // The former last entry fills the gap at `i`: it may belong above or below.
+            if self.heap.get(i).is_some_and(|gone| last < *gone) {
+                self.sift_up(i, last);
+            } else {
+                self.sift_down(i, last);
+            }
+        }
+    }
+
+    /// Puts `k` at `i` and records it.
+    fn put(&mut self, i: usize, k: Key) {
+        if let Some(slot) = self.heap.get_mut(i) {
+            *slot = k;
+        }
+        if let Some(p) = self.pos.get_mut(key_node(k) as usize) {
+            // `i` indexes the heap, which holds at most one entry per node (`u32` many).
+            *p = i as u32;
+        }
+    }
+
+    /// Moves `k`, to be placed at `i`, up past larger parents.
+    fn sift_up(&mut self, mut i: usize, k: Key) {
+        while i > 0 {
+            let parent = (i - 1) / 2;
+            match self.heap.get(parent).copied() {
+                Some(pk) if k < pk => {
+                    self.put(i, pk);
+                    i = parent;
+                }
+                _ => break,
+            }
+        }
+        self.put(i, k);
+    }
+
+    /// Places `k` at `i` or below: the hole at `i` first goes down to a leaf along the
+    /// smaller children (one comparison a level), then `k` rises from there (a later wake,
+    /// the usual case, rarely rises far).
+    fn sift_down(&mut self, mut i: usize, k: Key) {
+        let start = i;
+        loop {
+            let l = 2 * i + 1;
+            let Some(&lk) = self.heap.get(l) else {
+                break;
+            };
+            let (c, ck) = match self.heap.get(l + 1) {
+                Some(&rk) if rk < lk => (l + 1, rk),
+                _ => (l, lk),
+            };
+            self.put(i, ck);
+            i = c;
+        }
+        while i > start {
+            let parent = (i - 1) / 2;
+            match self.heap.get(parent).copied() {
+                Some(pk) if k < pk => {
+                    self.put(i, pk);
+                    i = parent;
+                }
+                _ => break,
+            }
+        }
+        self.put(i, k);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::event_queue::{ComponentId, EventQueue};
+
+    /// A small deterministic generator (no dependency for a unit test).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self, n: u64) -> u64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 33) % n
+        }
+    }
+
+    /// The wake queue gives the same events in the same order as the general event queue
+    /// used the way the simulation used it (one wake per node, cancel and reschedule).
+    #[test]
+    fn same_order_as_the_general_event_queue() {
+        for seed in 0..40 {
+            let mut rng = Lcg(seed);
+            let nodes = 1 + rng.next(20) as usize;
+            let mut general: EventQueue<Ev> = EventQueue::new();
+            let mut fault_events = Vec::new();
+            for i in 0..rng.next(4) as usize {
+                let at = Instant::from_picos(rng.next(50));
+                let target = ComponentId((nodes + i) as u32);
+                general.schedule(at, target, Ev::FaultStart(i)).ok();
+                fault_events.push((at, Ev::FaultStart(i)));
+                if rng.next(2) == 0 {
+                    let end = Instant::from_picos(at.as_picos() + rng.next(3));
+                    general.schedule(end, target, Ev::FaultEnd(i)).ok();
+                    fault_events.push((end, Ev::FaultEnd(i)));
+                }
+            }
+            let mut wakes = WakeQueue::new(nodes, fault_events);
+            let mut handles = vec![None; nodes];
+            let mut now = 0u64;
+            for _ in 0..400 {
+                if rng.next(3) == 0 {
+                    let limit = Instant::from_picos(now + rng.next(10));
+                    let a = general.pop_until(limit).map(|e| (e.time, e.payload));
+                    let b = wakes.pop_until(limit);
+                    assert_eq!(a, b, "seed {seed}");
+                    if let Some((t, Ev::Node(j))) = a {
+                        handles[j] = None;
+                        now = t.as_picos();
+                    } else if let Some((t, _)) = a {
+                        now = t.as_picos();
+                    }
+                } else {
+                    let j = rng.next(nodes as u64) as usize;
+                    if let Some(h) = handles[j].take() {
+                        general.cancel(h);
+                    }
+                    if rng.next(5) == 0 {
+                        wakes.remove(j);
+                    } else {
+                        let at = Instant::from_picos(now + rng.next(30));
+                        handles[j] = general
+                            .schedule(at, ComponentId(j as u32), Ev::Node(j))
+                            .ok();
+                        wakes.set(j, at);
+                    }
+                }
+                assert_eq!(general.peek_time(), wakes.peek_time(), "seed {seed}");
+            }
+        }
+    }
+}
