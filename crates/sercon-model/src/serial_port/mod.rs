@@ -192,8 +192,10 @@ impl SerialPort {
     /// to the log).
     pub(crate) fn line_input(&mut self, seg: LineSegment, frames: &mut Vec<RxFrame>) {
         let first = frames.len();
+        // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
+        let fwd = (self.cfg.tx_mode == TxMode::Repeat).then(|| self.forwarded(seg.clone()));
         self.rx.input(
-            &seg,
+            seg,
             &self.cfg,
             Sinks {
                 events: &mut self.events,
@@ -204,9 +206,7 @@ impl SerialPort {
         for f in frames.iter().skip(first) {
             self.rx_log.push(f);
         }
-        // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
-        if self.cfg.tx_mode == TxMode::Repeat {
-            let fwd = self.forwarded(seg);
+        if let Some(fwd) = fwd {
             self.tx.push_background(fwd);
         }
     }

@@ -94,7 +94,7 @@ impl Receiver {
     }
 
     /// Takes one segment of the line input (light levels) at or after the previous one.
-    pub(crate) fn input(&mut self, seg: &LineSegment, cfg: &PortConfig, sinks: Sinks<'_>) {
+    pub(crate) fn input(&mut self, seg: LineSegment, cfg: &PortConfig, sinks: Sinks<'_>) {
         let Sinks {
             events,
             frames,
@@ -194,16 +194,16 @@ impl Receiver {
                     );
                     self.running = None;
                 } else {
-                    self.scan_edges(seg, prev_level, events);
+                    self.scan_edges(&seg, prev_level, events);
                     if mismatch {
                         self.running = None;
                     } else {
-                        self.decode(seg, prev_level, cfg, events, frames);
+                        self.decode(&seg, prev_level, cfg, events, frames);
                     }
                 }
             }
         }
-        self.last = Some(seg.clone());
+        self.last = Some(seg);
     }
 
     /// Reports the edges of an explicit bit segment.

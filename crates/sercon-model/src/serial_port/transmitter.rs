@@ -45,13 +45,16 @@ pub(crate) struct Transmitter {
     own: VecDeque<Own>,
     /// Background segments not yet released, by start.
     background: VecDeque<LineSegment>,
-    /// The background segment in effect (the last one whose start has passed).
+    /// The background segment in effect (the last one whose start has passed), as queued,
+    /// unless `last_is_bg` says it is `last_out` (then it is not copied at its release).
     bg_active: Option<LineSegment>,
+    /// `last_out` is the background segment in effect, released as queued (not inverted).
+    last_is_bg: bool,
     /// The own telegram released last ends here; until then the background is shadowed.
     own_until: Instant,
     /// After an own telegram, the background is resumed at this instant.
     resume_at: Option<Instant>,
-    /// The output segment released last.
+    /// The output segment released last, without its hint (only its levels are asked for).
     last_out: Option<LineSegment>,
     /// Released segments the simulation has not taken yet.
     released: Vec<LineSegment>,
@@ -150,14 +153,18 @@ impl Transmitter {
                 let Some(seg) = own.segment(level, &mut self.coded) else {
                     continue;
                 };
+                if self.last_is_bg {
+                    // The background in effect is about to be shadowed: keep it for the
+                    // resume (its start has passed, so the hint it lost is not needed).
+                    self.bg_active = self.last_out.take();
+                }
                 self.own_until = seg.end().unwrap_or(t);
                 self.resume_at = Some(self.own_until);
                 self.emit(seg);
             } else if self.background.front().is_some_and(|s| s.start == t) {
-                let Some(mut seg) = self.background.pop_front() else {
+                let Some(seg) = self.background.pop_front() else {
                     break;
                 };
-                self.bg_active = Some(seg.clone());
                 if t >= self.own_until {
                     self.resume_at = None;
                     // A forwarded telegram after an own one continues from the level the
@@ -166,9 +173,16 @@ impl Transmitter {
                     if matches!(seg.signal, LineSignal::Bits(_))
                         && seg.level_before != self.level_at(t)
                     {
-                        seg = seg.inverted();
+                        self.bg_active = Some(seg.clone());
+                        self.emit(seg.inverted());
+                    } else {
+                        self.bg_active = None;
+                        self.emit(seg);
+                        self.last_is_bg = true;
                     }
-                    self.emit(seg);
+                } else {
+                    // Shadowed by the own telegram being sent.
+                    self.bg_active = Some(seg);
                 }
             } else {
                 self.resume_at = None;
@@ -194,8 +208,16 @@ impl Transmitter {
     }
 
     fn emit(&mut self, seg: LineSegment) {
-        self.released.push(seg.clone());
-        self.last_out = Some(seg);
+        self.last_out = Some(LineSegment {
+            start: seg.start,
+            bit_time: seg.bit_time,
+            signal: seg.signal.clone(),
+            level_before: seg.level_before,
+            hint: None,
+            distorted: seg.distorted,
+        });
+        self.last_is_bg = false;
+        self.released.push(seg);
     }
 
     /// Whether no released segment waits to be taken.
