@@ -232,6 +232,18 @@ impl Chip {
         earliest(self.next_internal(), output)
     }
 
+    /// [`Chip::next_event_at`] without the output: the chip's next internal event (timing
+    /// control, watchdog, telegram processor, a serial-port change of FIBBR, RDIST or a
+    /// traced pin), `None` in reset or when nothing is scheduled. With
+    /// [`Chip::next_line_output_except`] a simulation can leave out the output segments it
+    /// does not need to be woken for.
+    pub fn next_internal_event_at(&self) -> Option<Instant> {
+        if self.in_reset {
+            return None;
+        }
+        self.next_internal()
+    }
+
     /// Chooses which pins produce [`PinEvent`]s from now on.
     pub fn set_traced_pins(&mut self, pins: PinSet) {
         self.touched();

@@ -62,6 +62,33 @@ impl Chip {
         self.serial.next_output_at()
     }
 
+    /// When the next output segment not yet given by [`Chip::take_line_output`] starts,
+    /// leaving out queued background segments (what the repeater forwards, 410B §1 "The
+    /// slaves regenerate and repeat their received data", 1H.3 REPON, and the filler or
+    /// steady signal of the transmit mode) whose starts are in `expected` (ascending, as a
+    /// ring delivers them): a simulation that carries forwarded telegrams down the ring
+    /// itself need not wake the chip for the copies it expects. Own telegrams and the
+    /// background resumed after one always count.
+    pub fn next_line_output_except<I>(&self, expected: I) -> Option<Instant>
+    where
+        I: IntoIterator<Item = Instant>,
+    {
+        let own = self.serial.next_own_output_at();
+        let mut expected = expected.into_iter().peekable();
+        let mut unexpected = None;
+        for start in self.serial.background_output_starts() {
+            while expected.next_if(|e| *e < start).is_some() {}
+            if expected.next_if_eq(&start).is_none() {
+                unexpected = Some(start);
+                break;
+            }
+        }
+        match (own, unexpected) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
     /// Moves the telegrams received so far to `out` (a log for tools and tests, kept to the
     /// newest [`super::RX_LOG_FRAMES`]; the telegram processor gets every frame anyway).
     pub fn take_rx_frames(&mut self, out: &mut Vec<RxFrame>) {

@@ -240,6 +240,16 @@ impl SerialPort {
         self.tx.next_release_at()
     }
 
+    /// The instant the next own output segment starts (not a queued background segment).
+    pub(crate) fn next_own_output_at(&self) -> Option<Instant> {
+        self.tx.next_own_release_at()
+    }
+
+    /// Starts of the queued background output segments, in order.
+    pub(crate) fn background_output_starts(&self) -> impl Iterator<Item = Instant> + '_ {
+        self.tx.background_starts()
+    }
+
     /// Takes back the byte buffer of a frame the chip has finished with.
     pub(crate) fn recycle(&mut self, mut bytes: Vec<u8>) {
         // A few suffice: a handful of frames are in flight at a time.

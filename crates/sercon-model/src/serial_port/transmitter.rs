@@ -141,6 +141,20 @@ impl Transmitter {
         next
     }
 
+    /// The instant the next own output starts: an own telegram, or the background resumed
+    /// after one (not a queued background segment).
+    pub(crate) fn next_own_release_at(&self) -> Option<Instant> {
+        match (self.own.front().map(|s| s.start), self.resume_at) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// Starts of the queued background segments (forwarded input, filler), in order.
+    pub(crate) fn background_starts(&self) -> impl Iterator<Item = Instant> + '_ {
+        self.background.iter().map(|s| s.start)
+    }
+
     /// Releases every output segment that starts at or before `now`.
     pub(crate) fn release(&mut self, now: Instant) {
         while let Some(t) = self.next_release_at().filter(|t| *t <= now) {
