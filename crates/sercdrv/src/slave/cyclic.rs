@@ -92,14 +92,40 @@ impl RecordPlaces {
         status_word: u16,
         feedback: &[u8],
     ) {
-        let word0 = bus.read_ram(self.at_header);
-        let (start, toggle) = match self.at.buffering {
-            Buffering::Single => (self.at.data, false),
-            Buffering::Double if word0 & VAL != 0 => (self.at.data, true),
-            Buffering::Double => (self.at.data.wrapping_add(self.at.len), true),
+        self.write_feedback_changed(bus, status_word, feedback, &mut AtWritten::default());
+    }
+
+    /// [`write_feedback`](Self::write_feedback), writing into a single buffer only the
+    /// words that differ from what `written` says the driver wrote there last (and noting
+    /// what it writes). Only the processor writes a transmit container's data words: the
+    /// chip fills the service bits and info into the telegram it sends, not into the RAM
+    /// (410B §4.2.2 SVFL; ERRATA "service info in a container"), so a word written once
+    /// holds until the driver writes it again or the RAM is laid out anew (then `written`
+    /// starts empty). A double buffer is written in full every cycle (the other buffer).
+    pub(crate) fn write_feedback_changed<B: SerconBus + ?Sized>(
+        &self,
+        bus: &mut B,
+        status_word: u16,
+        feedback: &[u8],
+        written: &mut AtWritten,
+    ) {
+        let (start, toggle, word0) = match self.at.buffering {
+            Buffering::Single => (self.at.data, false, 0),
+            Buffering::Double => {
+                let word0 = bus.read_ram(self.at_header);
+                if word0 & VAL != 0 {
+                    (self.at.data, true, word0)
+                } else {
+                    (self.at.data.wrapping_add(self.at.len), true, word0)
+                }
+            }
             Buffering::Dma => return,
         };
-        bus.write_ram(start, status_word);
+        if toggle {
+            // Both buffers take turns: nothing written before is known to be there.
+            written.forget();
+        }
+        written.write(bus, start, 0, status_word);
         if toggle {
             // Keep the service info the chip last sent in the other buffer.
             let other = if start == self.at.data {
@@ -118,10 +144,41 @@ impl RecordPlaces {
                 Some([low]) => u16::from(*low),
                 _ => 0,
             };
-            bus.write_ram(start.wrapping_add(2).wrapping_add(i), word);
+            written.write(bus, start, 2u16.wrapping_add(i), word);
         }
         if toggle {
             bus.write_ram(self.at_header, word0 ^ VAL);
+            written.forget();
+        }
+    }
+}
+
+/// The words the driver last wrote into a single-buffered AT container, by data word
+/// offset (`None`: not known), so that a cycle writes only the words that changed.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub(crate) struct AtWritten {
+    words: Vec<Option<u16>>,
+}
+
+impl AtWritten {
+    /// Nothing written is known any more.
+    pub(crate) fn forget(&mut self) {
+        self.words.clear();
+    }
+
+    /// Writes `word` at data word `offset` of the buffer at `start` unless it is known to
+    /// be there already.
+    fn write<B: SerconBus + ?Sized>(&mut self, bus: &mut B, start: u16, offset: u16, word: u16) {
+        let i = usize::from(offset);
+        if self.words.get(i).copied().flatten() == Some(word) {
+            return;
+        }
+        bus.write_ram(start.wrapping_add(offset), word);
+        if self.words.len() <= i {
+            self.words.resize(i + 1, None);
+        }
+        if let Some(slot) = self.words.get_mut(i) {
+            *slot = Some(word);
         }
     }
 }

@@ -32,6 +32,7 @@ mod parameters;
 mod wake_tests;
 
 pub use config::{DEFAULT_NONCYCLIC_CYCLE_US, DEFAULT_SCLK_HZ, SlaveConfig};
+use cyclic::AtWritten;
 pub use cyclic::RecordPlaces;
 pub use device::{CyclicLengths, DeviceRefusal, SlaveDevice};
 pub use error::SlaveError;
@@ -114,6 +115,10 @@ pub struct SlaveDriver<D> {
     /// slave mode) and the service server keeps it when it stores word 0, so it is written
     /// only when the status word's bit 5 changes, not read back every cycle.
     cmd_at: Option<bool>,
+    /// What was last written into the AT container of block 0 (phases 0-2).
+    noncyclic_at: AtWritten,
+    /// What was last written into the AT container of block 1 (phases 3-4), while laid out.
+    cyclic_at: AtWritten,
 }
 
 impl<D: SlaveDevice> SlaveDriver<D> {
@@ -158,6 +163,8 @@ impl<D: SlaveDevice> SlaveDriver<D> {
             command: Vec::new(),
             feedback: Vec::new(),
             cmd_at: None,
+            noncyclic_at: AtWritten::default(),
+            cyclic_at: AtWritten::default(),
         })
     }
 
@@ -272,6 +279,9 @@ impl<D: SlaveDevice> SlaveDriver<D> {
         self.service.init(bus);
         // 410B §4.2.4 slave table: the container starts with CMD_AT = 0 (init above).
         self.cmd_at = Some(false);
+        // The RAM was written anew: nothing of the AT containers is known.
+        self.noncyclic_at.forget();
+        self.cyclic_at.forget();
         // 410B §4.1 0FH/10H TSCYC0/1, µs; the phase 3-4 value follows S-0-0002.
         let cycle = u16::try_from(c.noncyclic_cycle_us).unwrap_or(u16::MAX);
         bus.write(Register::Tscyc0, cycle);
@@ -429,12 +439,18 @@ impl<D: SlaveDevice> SlaveDriver<D> {
 
     /// 410B §4.1 4H.4 INT_COMEND: the block ended; the MDT of this cycle is in.
     fn end_of_block<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) {
-        let received = bus.read_reg::<PhasRec>().phasrec();
         if let Some(p) = self.programmed {
             // 410B §4.1 0AH/0CH: the chip followed PHAS1 (the step the slave had accepted).
-            if received == p.phas.phas1() && received != self.phase.number() {
-                if let Ok(next) = CommunicationPhase::try_from(received) {
-                    self.enter(now, next);
+            // PHASREC (0BH) is read only when PHAS1 is a step up: PHAS1 = 0 (nothing armed)
+            // is followed by an MST of phase 0, which raised INT_PHAS0 (4H.5) at its
+            // reception, served before this block's end (back_to_phase_0).
+            let phas1 = p.phas.phas1();
+            if phas1 != 0 && phas1 != self.phase.number() {
+                let received = bus.read_reg::<PhasRec>().phasrec();
+                if received == phas1 {
+                    if let Ok(next) = CommunicationPhase::try_from(received) {
+                        self.enter(now, next);
+                    }
                 }
             }
         }
@@ -541,6 +557,7 @@ impl<D: SlaveDevice> SlaveDriver<D> {
             u16::try_from(timing.cycle_time_us).unwrap_or(u16::MAX),
         );
         self.cyclic = Some((layout, places));
+        self.cyclic_at.forget();
         Ok(())
     }
 
@@ -592,11 +609,11 @@ impl<D: SlaveDevice> SlaveDriver<D> {
         self.device.feedback_data(now, &mut self.feedback);
         if let Some(places) = &self.noncyclic_records {
             if !self.phase.is_cyclic() {
-                places.write_feedback(bus, status, &[]);
+                places.write_feedback_changed(bus, status, &[], &mut self.noncyclic_at);
             }
         }
         if let Some((_, places)) = &self.cyclic {
-            places.write_feedback(bus, status, &self.feedback);
+            places.write_feedback_changed(bus, status, &self.feedback, &mut self.cyclic_at);
         }
         // ERRATA "service info in a container": status bit 5 is CMD_AT of the container.
         let cmd_at = status & StatusWord::COMMAND_CHANGE != 0;

@@ -254,3 +254,66 @@ fn flag_raised_while_serving_is_served_in_the_same_wake() {
     assert_eq!(chip.reg(Register::IntFlagsHi) & sc, 0, "INT_SC served");
     assert_eq!(flag_reads(&chip.log), 2);
 }
+
+/// The block-0 AT's status word address (single buffer: data word 0, 410B §4.2.2).
+fn noncyclic_status_address(slave: &SlaveDriver<Device>) -> u16 {
+    super::RecordPlaces::find(
+        slave.noncyclic_layout(),
+        crate::ram_layout::PhaseGroup::NonCyclic,
+    )
+    .expect("block 0 records")
+    .at
+    .data
+}
+
+// 410B §4.2.2: only the processor writes a transmit container's data words, so a
+// single-buffered AT word is written when it changes, not every cycle; a new start (RAM
+// written anew) writes it again.
+#[test]
+fn single_buffer_at_words_are_written_when_they_change() {
+    let (mut slave, mut chip) = started();
+    let status_at = noncyclic_status_address(&slave);
+    let writes = |log: &[Access]| log.contains(&Access::WriteRam(status_at));
+    slave.device_mut().status = 0x4000;
+    end_of_block(&mut slave, &mut chip);
+    assert!(writes(&chip.log));
+    assert_eq!(chip.ram.get(usize::from(status_at)), Some(&0x4000));
+    end_of_block(&mut slave, &mut chip);
+    assert!(!writes(&chip.log), "{:?}", chip.log);
+    slave.device_mut().status = 0x8000;
+    end_of_block(&mut slave, &mut chip);
+    assert!(writes(&chip.log));
+    assert_eq!(chip.ram.get(usize::from(status_at)), Some(&0x8000));
+    // A power-on (the chip's RAM lost) starts over: the status word is written again.
+    chip.ram.fill(0);
+    slave.wake(&mut chip, Instant::ZERO, Wake::PowerOn);
+    end_of_block(&mut slave, &mut chip);
+    assert_eq!(chip.ram.get(usize::from(status_at)), Some(&0x8000));
+}
+
+/// The block's end with PHASREC (0BH) = `phase`.
+fn end_of_block_in(slave: &mut SlaveDriver<Device>, chip: &mut FakeChip, phase: u16) {
+    chip.set_reg(Register::PhasRec, phase);
+    end_of_block(slave, chip);
+}
+
+// 410B §4.1 0AH/0BH: PHASREC is read at the block's end while PHAS1 arms a step up, and the
+// slave follows it; with nothing armed (PHAS1 = 0, here phase 2 without S-0-0127) it is not
+// read, and a drop to phase 0 comes through INT_PHAS0 (4H.5).
+#[test]
+fn phasrec_is_read_only_while_a_step_is_armed() {
+    let (mut slave, mut chip) = started();
+    let phasrec_read = |log: &[Access]| log.contains(&Access::ReadReg(Register::PhasRec as u8));
+    end_of_block_in(&mut slave, &mut chip, 1);
+    assert!(phasrec_read(&chip.log));
+    assert_eq!(slave.phase(), CommunicationPhase::Phase1);
+    end_of_block_in(&mut slave, &mut chip, 2);
+    assert_eq!(slave.phase(), CommunicationPhase::Phase2);
+    end_of_block_in(&mut slave, &mut chip, 2);
+    assert!(!phasrec_read(&chip.log), "{:?}", chip.log);
+    assert_eq!(slave.phase(), CommunicationPhase::Phase2);
+    let lo = chip.reg(Register::IntFlagsLo) | IntFlagsLo::INT_PHAS0.bits();
+    chip.set_reg(Register::IntFlagsLo, lo);
+    end_of_block_in(&mut slave, &mut chip, 0);
+    assert_eq!(slave.phase(), CommunicationPhase::Phase0);
+}
