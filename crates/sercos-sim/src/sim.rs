@@ -696,18 +696,30 @@ impl Simulation {
             };
             // The chip's next internal event: cheaper to ask than the next observable
             // instant (no look-ahead probe), and every interrupt change is seen at once.
-            if lookahead == Lookahead::Events {
-                cand(node.chip.next_event_at());
+            if lookahead == Lookahead::Events && !exact {
+                // Fast path: the forwarded copies the simulation expects (it carried them
+                // down the ring when they arrived, 410B §1 "The slaves regenerate and
+                // repeat their received data") need no wake; they are taken and dropped
+                // at the next one. Own output and anything unexpected still wake the node.
+                cand(node.chip.next_internal_event_at());
+                cand(
+                    node.chip
+                        .next_line_output_except(node.expect.iter().map(|e| e.0)),
+                );
             } else {
-                cand(node.chip.next_deadline());
+                if lookahead == Lookahead::Events {
+                    cand(node.chip.next_event_at());
+                } else {
+                    cand(node.chip.next_deadline());
+                }
+                let out = node.chip.next_line_output_at();
+                let expected = node.expect.front().map(|e| e.0);
+                if exact || out != expected {
+                    cand(out);
+                }
             }
             cand(node.host_deadline);
             cand(node.resume.filter(|r| *r > chip_now));
-            let out = node.chip.next_line_output_at();
-            let expected = node.expect.front().map(|e| e.0);
-            if exact || out != expected {
-                cand(out);
-            }
         }
         let global = next.map(|l| node.clock.to_global(l).max(now));
         if node.wake == global {

@@ -236,6 +236,42 @@ fn fast_path_through_plain_repeaters_gives_the_exact_trace_with_faults() {
     fast_equals_exact_at_master_input(12, faults, us(1250));
 }
 
+/// The fast path does not wake a repeating slave for the forwarded copies it carried down
+/// the ring itself (410B §1: "The slaves regenerate and repeat their received data";
+/// `Chip::next_line_output_except`): the logs on the master's input and on slave 1's input
+/// fibre stay those of the exact path, and no segment reaches a chip that has already
+/// passed its start more often than on the exact path (a slave woken too late for its own
+/// AT would hand it over late).
+#[test]
+fn unwoken_forwarded_copies_keep_the_exact_trace_and_nothing_late() {
+    let slaves = 12;
+    for segment in [slaves, 0] {
+        let mut runs = Vec::new();
+        for delivery in [Delivery::Exact, Delivery::Fast] {
+            let mut ring = StaticRing::new(slaves, 250);
+            ring.delivery = delivery;
+            ring.fibre_m = 30;
+            ring.at_words = 2;
+            ring.mdt_words = 2;
+            let (mut cfg, hosts, _) = build(&ring);
+            cfg.traces.log_segment = Some(SegmentId(segment as u16));
+            let (sim, out) = run(cfg, hosts, us(1000));
+            runs.push((out.log, sim.stats()));
+        }
+        let (exact, exact_stats) = &runs[0];
+        let (fast, stats) = &runs[1];
+        assert!(parse_log(exact).len() > 4);
+        assert_eq!(
+            String::from_utf8_lossy(exact),
+            String::from_utf8_lossy(fast)
+        );
+        // The exact path takes every forwarded copy from its chip; the fast path must not
+        // hand any segment over later than it does.
+        assert!(stats.late <= exact_stats.late, "{stats:?} {exact_stats:?}");
+        assert_eq!(stats.out_of_order, 0, "{stats:?}");
+    }
+}
+
 #[test]
 fn rings_that_do_not_fit_are_refused_not_panicking() {
     for (slaves, cycle, words) in [(0, 250, 8), (255, 4000, 1), (8, 50, 8), (1, 65535, 1024)] {

@@ -142,7 +142,7 @@ impl WakeQueue {
             if self.heap.get(i).is_some_and(|gone| last < *gone) {
                 self.sift_up(i, last);
             } else {
-                self.sift_down(i, last);
+                self.sift_hole_down(i, last);
             }
         }
     }
@@ -173,10 +173,31 @@ impl WakeQueue {
         self.put(i, k);
     }
 
-    /// Places `k` at `i` or below: the hole at `i` first goes down to a leaf along the
-    /// smaller children (one comparison a level), then `k` rises from there (a later wake,
-    /// the usual case, rarely rises far).
+    /// Moves `k`, to be placed at `i`, down past smaller children (a wake moved a little
+    /// later stays near where it was).
     fn sift_down(&mut self, mut i: usize, k: Key) {
+        loop {
+            let l = 2 * i + 1;
+            let Some(&lk) = self.heap.get(l) else {
+                break;
+            };
+            let (c, ck) = match self.heap.get(l + 1) {
+                Some(&rk) if rk < lk => (l + 1, rk),
+                _ => (l, lk),
+            };
+            if ck >= k {
+                break;
+            }
+            self.put(i, ck);
+            i = c;
+        }
+        self.put(i, k);
+    }
+
+    /// Places `k` (the heap's former last entry) at `i` or below: the hole at `i` first
+    /// goes down to a leaf along the smaller children (one comparison a level), then `k`
+    /// rises from there (it came from the bottom and rarely rises far).
+    fn sift_hole_down(&mut self, mut i: usize, k: Key) {
         let start = i;
         loop {
             let l = 2 * i + 1;
