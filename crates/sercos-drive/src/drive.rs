@@ -11,25 +11,21 @@ use sercos_wire::idn::Idn;
 use sercos_wire::telegram::{CommunicationPhase, ControlWord, ReadyToOperate, StatusWord};
 use sercos_wire::time::{Duration, Instant};
 
+use crate::command_inputs::CommandInputs;
 use crate::database::IdnDatabase;
 use crate::motion::{Axis, AxisCommand, ControlMode};
 use crate::procedure::{
     CLASS_1_DIAGNOSTIC, CommandStatus, PHASE_3_TRANSITION_CHECK, PHASE_4_TRANSITION_CHECK,
-    SIMULATED_FAULT,
 };
 use crate::telegram_layout::{self, CyclicLayout, LayoutError};
 
 /// S-0-0011 bit 15, manufacturer-specific error: the simulated fault (docs/spec-notes.md).
 pub const CLASS_1_MANUFACTURER_ERROR: u64 = 1 << 15;
 
-const VELOCITY_COMMAND: Idn = Idn::from_raw(36);
 const VELOCITY_FEEDBACK: Idn = Idn::from_raw(40);
-const POSITION_COMMAND: Idn = Idn::from_raw(47);
 const POSITION_FEEDBACK: Idn = Idn::from_raw(51);
-const TORQUE_COMMAND: Idn = Idn::from_raw(80);
 const MASTER_CONTROL_WORD: Idn = Idn::from_raw(134);
 const DRIVE_STATUS_WORD: Idn = Idn::from_raw(135);
-const TIME_CONSTANT: Idn = Idn::from_raw(0x8001);
 const TORQUE_FEEDBACK: Idn = Idn::from_raw(0x8013);
 
 /// Why the drive refused something the master asked.
@@ -71,6 +67,21 @@ pub struct EmulatedDrive {
     /// advancing again to the same instant would change nothing, so it is skipped (the
     /// slave driver asks for status word and feedback at the same instant).
     settled_at: Option<Instant>,
+    /// The command inputs as the database holds them (`None`: to be read again; dropped on
+    /// every mutable access to the database).
+    inputs: Option<CommandInputs>,
+    /// What the diagnostics (S-0-0135, S-0-0095) were last made from, while nothing else
+    /// they depend on can have changed (dropped with `inputs` and on a phase change).
+    diagnosed: Option<DiagnosticKey>,
+}
+
+/// What the drive status word S-0-0135 and the diagnostic message S-0-0095 are made from
+/// besides the database: status word, whether the axis halts, phase.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct DiagnosticKey {
+    status: u16,
+    halt: bool,
+    phase: CommunicationPhase,
 }
 
 /// Velocity units per rpm in S-0-0036 / S-0-0040 (4 decimal places, catalogue).
@@ -89,6 +100,8 @@ impl EmulatedDrive {
             control: ControlWord::new(),
             layout: CyclicLayout::default(),
             settled_at: None,
+            inputs: None,
+            diagnosed: None,
         };
         drive.apply_time_constant();
         drive.update_diagnostics();
@@ -103,6 +116,8 @@ impl EmulatedDrive {
     /// The IDN database, mutable.
     pub fn database_mut(&mut self) -> &mut IdnDatabase {
         self.settled_at = None;
+        self.inputs = None;
+        self.diagnosed = None;
         &mut self.database
     }
 
@@ -127,6 +142,7 @@ impl EmulatedDrive {
     /// (acknowledged) the command since ([`IdnDatabase::transition_check_passed`]).
     pub fn set_phase(&mut self, phase: CommunicationPhase) -> Result<(), DriveError> {
         self.settled_at = None;
+        self.diagnosed = None;
         let from = self.phase();
         let refuse = |reason| {
             Err(DriveError::PhaseRefused {
@@ -206,6 +222,12 @@ impl EmulatedDrive {
                 if let Some(parameter) = self.database.get(field.idn) {
                     if let Ok(value) = parameter.attribute.decode(words) {
                         let _ = self.database.set_internal(field.idn, &value);
+                        // A command value of the record: the kept inputs take it.
+                        if CommandInputs::covers(field.idn) {
+                            if let Some(inputs) = &mut self.inputs {
+                                inputs.note(field.idn, self.database.number(field.idn));
+                            }
+                        }
                     }
                 }
             }
@@ -255,7 +277,7 @@ impl EmulatedDrive {
         let _ = self
             .database
             .set_internal(POSITION_FEEDBACK, &Value::Signed(i64::from(position)));
-        let torque = self.database.number(TORQUE_COMMAND).unwrap_or(0);
+        let torque = self.inputs().torque.unwrap_or(0);
         let torque = if matches!(self.axis.command(), AxisCommand::Coast) {
             0
         } else {
@@ -296,16 +318,37 @@ impl EmulatedDrive {
     }
 
     fn class_1_error(&self) -> bool {
-        self.database.number(CLASS_1_DIAGNOSTIC).unwrap_or(0) != 0
+        let class_1 = match &self.inputs {
+            Some(inputs) => inputs.class_1,
+            None => self.database.number(CLASS_1_DIAGNOSTIC),
+        };
+        class_1.unwrap_or(0) != 0
+    }
+
+    /// The command inputs, read from the database if they were dropped.
+    fn inputs(&mut self) -> CommandInputs {
+        match self.inputs {
+            Some(inputs) => inputs,
+            None => {
+                let inputs = CommandInputs::read(&self.database);
+                self.inputs = Some(inputs);
+                inputs
+            }
+        }
+    }
+
+    /// The drive wrote element 7 of `idn` itself: a command input it is takes the new value.
+    fn note_written(&mut self, idn: Idn) {
+        if CommandInputs::covers(idn) {
+            if let Some(inputs) = &mut self.inputs {
+                inputs.note(idn, self.database.number(idn));
+            }
+        }
     }
 
     fn apply_time_constant(&mut self) {
         // P-0-0001 in 0.1 ms (one decimal place, catalogue).
-        let tenths = self
-            .database
-            .number(TIME_CONSTANT)
-            .unwrap_or(50)
-            .clamp(1, 100_000);
+        let tenths = self.inputs().time_constant.unwrap_or(50).clamp(1, 100_000);
         self.axis
             .set_time_constant(Duration::from_micros(tenths as u64 * 100));
     }
@@ -313,13 +356,16 @@ impl EmulatedDrive {
     /// Chooses the axis command from the control word, phase, diagnostics and mode.
     fn update_command(&mut self) {
         self.apply_time_constant();
-        if self.database.number(SIMULATED_FAULT).unwrap_or(0) != 0 {
-            let diagnostic = self.database.number(CLASS_1_DIAGNOSTIC).unwrap_or(0) as u64;
+        let inputs = self.inputs();
+        if inputs.simulated_fault.unwrap_or(0) != 0 {
+            let diagnostic = inputs.class_1.unwrap_or(0) as u64;
             let _ = self.database.set_internal(
                 CLASS_1_DIAGNOSTIC,
                 &Value::Unsigned(diagnostic | CLASS_1_MANUFACTURER_ERROR),
             );
+            self.note_written(CLASS_1_DIAGNOSTIC);
         }
+        let inputs = self.inputs();
         let control = self.control;
         let following = self.phase() == CommunicationPhase::Phase4
             && !self.class_1_error()
@@ -331,18 +377,18 @@ impl EmulatedDrive {
             AxisCommand::Halt
         } else {
             // Control word bits 9–8 choose S-0-0032…S-0-0035.
-            let mode_idn = Idn::from_raw(32 + u16::from(control.operation_mode().bits()));
-            let mode = self.database.number(mode_idn).unwrap_or(0);
+            let mode = inputs
+                .operation_mode(control.operation_mode().bits())
+                .unwrap_or(0);
             match ControlMode::from_operation_mode(mode) {
-                Some(ControlMode::Velocity) => AxisCommand::Velocity(
-                    self.database.number(VELOCITY_COMMAND).unwrap_or(0) as f64 / VELOCITY_SCALE,
-                ),
-                Some(ControlMode::Position) => AxisCommand::Position(
-                    self.database.number(POSITION_COMMAND).unwrap_or(0) as f64 / POSITION_SCALE,
-                ),
+                Some(ControlMode::Velocity) => {
+                    AxisCommand::Velocity(inputs.velocity.unwrap_or(0) as f64 / VELOCITY_SCALE)
+                }
+                Some(ControlMode::Position) => {
+                    AxisCommand::Position(inputs.position.unwrap_or(0) as f64 / POSITION_SCALE)
+                }
                 Some(ControlMode::Torque) => AxisCommand::Velocity(
-                    self.database.number(TORQUE_COMMAND).unwrap_or(0) as f64 / 10.0
-                        * RPM_PER_TORQUE_PERCENT,
+                    inputs.torque.unwrap_or(0) as f64 / 10.0 * RPM_PER_TORQUE_PERCENT,
                 ),
                 None => AxisCommand::Halt,
             }
@@ -352,6 +398,18 @@ impl EmulatedDrive {
 
     fn update_diagnostics(&mut self) {
         let status = self.status_word();
+        // Diagnostics only on change: the same status word, axis command kind and phase,
+        // with the database untouched since (no service-channel write, no procedure
+        // command), give the same S-0-0135 and S-0-0095.
+        let key = DiagnosticKey {
+            status: status.raw(),
+            halt: matches!(self.axis.command(), AxisCommand::Halt),
+            phase: self.phase(),
+        };
+        if self.diagnosed == Some(key) {
+            return;
+        }
+        self.diagnosed = Some(key);
         let _ = self
             .database
             .set_internal(DRIVE_STATUS_WORD, &Value::Unsigned(u64::from(status.raw())));

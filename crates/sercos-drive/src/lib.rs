@@ -9,6 +9,7 @@
 //! * [`drive::EmulatedDrive`]: all of it driven by the control word, with time injected;
 //! * [`node::DriveNode`]: the drive behind a SERCDRV slave, a `HostProgram` for the ring.
 
+mod command_inputs;
 pub mod config_file;
 pub mod database;
 pub mod drive;
