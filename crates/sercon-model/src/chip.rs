@@ -149,9 +149,19 @@ impl Chip {
                     }
                     (_, Some(k)) => {
                         let fifo = self.tp.fifo.state();
+                        let flags = self.engine.flags;
                         crate::telegram_processor::step(self, k);
                         self.dma_changed(fifo, k);
-                        self.settle_tick(k);
+                        // The engine's pin levels follow its interrupt flags, settings,
+                        // timing outputs and watchdog. The processor reads the settings,
+                        // raises flags, and changes the engine's timing only through
+                        // `sync_cycle` (a slave's MST), which drops the engine's memo: with
+                        // neither, no level can have changed (most processor events).
+                        if self.engine.flags != flags || self.engine.next_memo.is_none() {
+                            self.settle_tick(k);
+                        } else {
+                            debug_assert_eq!(self.engine.levels, self.engine.compute_levels());
+                        }
                     }
                     // Nothing changed since both were computed.
                     _ => break (engine_next, tp_next),
