@@ -19,11 +19,17 @@
 
 use std::time::Instant as WallInstant;
 
-use sercdrv::master::{MIN_SERVICE_BUFFER_WORDS, Progress};
+use sercdrv::master::{
+    MIN_SERVICE_BUFFER_WORDS, Master, MasterConfig, MasterError, MasterErrorKind, Progress,
+    TELEGRAM_TYPE_CONFIGURED,
+};
 use sercdrv::ram_layout::{MasterBudget, MdtContainers};
+use sercdrv::timing::{CycleTiming, DriveParameters};
 use sercon_regs::Variant;
 use sercon_regs::ram::header::Buffering;
+use sercos_drive::database::IdnDatabase;
 use sercos_wire::address::DriveAddress;
+use sercos_wire::idn::{Element, Idn};
 use sercos_wire::telegram::ControlWord;
 use sercos_wire::time::{BitRate, Duration, Instant};
 
@@ -54,6 +60,8 @@ pub struct FullStackScenario {
     pub cycle_us: u32,
     /// What is measured.
     pub measure: Measure,
+    /// S-0-0015, the telegram type the master writes (7: its configured lists).
+    pub telegram_type: u16,
 }
 
 impl FullStackScenario {
@@ -65,6 +73,7 @@ impl FullStackScenario {
             bit_rate: self.bit_rate,
             cycle_us: self.cycle_us,
             drives: RingSpec::with_drives(self.drives),
+            telegram_type: self.telegram_type,
             ..RingSpec::default()
         }
     }
@@ -78,16 +87,18 @@ pub fn stack_8() -> FullStackScenario {
         bit_rate: BitRate::Mbit16,
         cycle_us: 250,
         measure: Measure::Cyclic,
+        telegram_type: TELEGRAM_TYPE_CONFIGURED,
     }
 }
 
-/// `stack-254` (`stack-n<n>` for other sizes): master + n drives, 16 Mbit/s, 4 ms cycle
-/// (4.4 ms for more than 232 drives), phase 4 (the target for 254 drives is ≥ 10×
-/// real time).
+/// `stack-254` (`stack-n<n>` for other sizes): master + n drives, 16 Mbit/s, 4 ms cycle,
+/// standard telegram type 3 ([`BIG_RING_TELEGRAM_TYPE`]), phase 4 (the target for
+/// 254 drives is ≥ 10× real time).
 ///
-/// 254 drives with the master's telegram type (AT records of 12 bytes, MDT records of 8)
-/// need 4348 µs after the MST at 16 Mbit/s (worst-case bit stuffing, 2 µs gaps: the planner,
-/// `sercdrv::timing`), more than a 4 ms cycle leaves (spec-notes "Master DMA layout").
+/// 254 drives with the master's configured type 7 (AT records of 12 bytes, MDT records of
+/// 8) need 4348 µs after the MST at 16 Mbit/s (worst-case bit stuffing, 2 µs gaps: the
+/// planner, `sercdrv::timing`), more than a 4 ms cycle leaves; type 3 (AT 8 bytes, MDT 8)
+/// fits (spec-notes "Master DMA layout").
 pub fn stack_n(n: u8) -> FullStackScenario {
     let name = if n == 254 {
         "stack-254".to_string()
@@ -98,14 +109,20 @@ pub fn stack_n(n: u8) -> FullStackScenario {
         name,
         drives: n,
         bit_rate: BitRate::Mbit16,
-        cycle_us: if n > LARGE_RING { 4400 } else { 4000 },
+        cycle_us: 4000,
         measure: Measure::Cyclic,
+        telegram_type: BIG_RING_TELEGRAM_TYPE,
     }
 }
 
-/// Rings larger than this do not fit a 4 ms cycle at 16 Mbit/s with the master's telegram
-/// type (12 µs per AT plus the 1.2 ms MDT of 254 records).
-const LARGE_RING: u8 = 232;
+/// The telegram type of the large-ring scenarios: standard type 3, S-0-0036 velocity
+/// command in the MDT and S-0-0051 position feedback in the AT, 4 bytes each
+/// (`sercdrv::master::standard_telegram`; sercos-facts.md S-0-0015 "0–6 standard"). The
+/// shortest standard type that still closes a position loop over the ring (the NC
+/// commands velocity, reads position) and keeps the command and feedback of the master's
+/// own lists; types 0, 1 and 6 carry no feedback, 4 and 5 ask the drive for position
+/// control, 5 doubles both records.
+pub const BIG_RING_TELEGRAM_TYPE: u16 = 3;
 
 /// `phaseup-8`: master + 8 drives, 16 Mbit/s, 250 µs cycle, from phase 0 to phase 4
 /// (target under 250 ms of wall time).
@@ -116,6 +133,7 @@ pub fn phaseup_8() -> FullStackScenario {
         bit_rate: BitRate::Mbit16,
         cycle_us: 250,
         measure: Measure::PhaseUp,
+        telegram_type: TELEGRAM_TYPE_CONFIGURED,
     }
 }
 
@@ -212,6 +230,24 @@ pub enum FullStackError {
         /// The largest ring that fits.
         largest: u32,
     },
+    /// The master would refuse the ring in phase 2: the cycle (or the layout) does not fit
+    /// the drives' timing parameters and data lengths; said before the phase-up.
+    #[error(
+        "{drives} drives at {bit_rate_mbit} Mbit/s, telegram type {telegram_type}, {cycle_us} µs cycle: {} (checked before the start with the drives' own parameters; a longer --cycle-us, a higher --baud or a telegram type with less data, e.g. --telegram-type 3, may fit)",
+        reason.kind
+    )]
+    Unplannable {
+        /// Drives asked for.
+        drives: usize,
+        /// Bit rate, Mbit/s.
+        bit_rate_mbit: u32,
+        /// S-0-0015.
+        telegram_type: u16,
+        /// tScyc, µs.
+        cycle_us: u32,
+        /// The master's refusal.
+        reason: MasterError,
+    },
     /// The master did not reach phase 4 within the limit.
     #[error(
         "the master did not reach phase 4 within {limit_s} s simulated (phase {phase}, {progress:?})"
@@ -247,17 +283,35 @@ pub struct RunningStack {
 const AT_DATA_BYTES: u16 = 8;
 const MDT_DATA_BYTES: u16 = 4;
 
+/// Cyclic data bytes (AT, MDT) of `telegram_type` with the standard catalogue's lengths:
+/// type 7 as above; the standard types carry 4-byte values (S-0-0036, -0040, -0047, -0051)
+/// and S-0-0080 of 2 bytes.
+fn data_bytes(telegram_type: u16) -> (u16, u16) {
+    let Some((mdt, at)) = sercdrv::master::standard_telegram(telegram_type) else {
+        return (AT_DATA_BYTES, MDT_DATA_BYTES);
+    };
+    let db = IdnDatabase::standard();
+    let bytes = |list: &[Idn]| {
+        list.iter()
+            .filter_map(|&idn| db.get(idn).and_then(|p| p.attribute.fixed_words()))
+            .map(|w| u16::try_from(w * 2).unwrap_or(u16::MAX))
+            .sum()
+    };
+    (bytes(&at), bytes(&mdt))
+}
+
 /// The master's RAM budget for `s`'s smallest layout: DMA with one MDT container for every
 /// record and the smallest service buffers, which the master falls back to when its default
 /// (double buffer, one MDT container per drive) does not hold the ring
 /// (`MasterConfig::layout_fallback`, spec-notes "Master DMA layout").
 pub fn master_budget(s: &FullStackScenario) -> MasterBudget {
     let spec = s.ring_spec();
+    let (at, mdt) = data_bytes(s.telegram_type);
     MasterBudget {
         buffering: Buffering::Dma,
         mdt: MdtContainers::Single,
         service_buffer_words: MIN_SERVICE_BUFFER_WORDS,
-        ..MasterBudget::master_default(spec.variant, AT_DATA_BYTES, MDT_DATA_BYTES)
+        ..MasterBudget::master_default(spec.variant, at, mdt)
     }
 }
 
@@ -270,6 +324,95 @@ pub const PHASE_UP_CYCLES_PER_DRIVE: u64 = 400;
 pub fn phase_up_allowance(drives: u8, cycle_us: u32) -> Duration {
     Duration::from_micros(u64::from(cycle_us))
         .saturating_mul(PHASE_UP_CYCLES_PER_DRIVE.saturating_mul(u64::from(drives)))
+}
+
+/// S-0-0003, -0004, -0005, -0088, -0090: the timing parameters the master reads in phase 2
+/// (sercos-facts.md, "Timing parameters").
+const T1MIN: Idn = Idn::from_raw(3);
+const T_ATMT: Idn = Idn::from_raw(4);
+const T5: Idn = Idn::from_raw(5);
+const T_MTSY: Idn = Idn::from_raw(88);
+const T_MTSG: Idn = Idn::from_raw(90);
+
+/// What drive `address` with `db` reports in phase 2 for `cfg`'s lists: its timing
+/// parameters (values, µs) and the data lengths of the listed IDNs (attributes, element 3).
+/// A parameter the database lacks counts as 0, a list IDN it lacks as no data: the master
+/// reads the same database in phase 2 and refuses such a drive there.
+pub fn drive_parameters(address: u8, db: &IdnDatabase, cfg: &MasterConfig) -> DriveParameters {
+    let time = |idn| {
+        db.number(idn)
+            .and_then(|v| u16::try_from(v).ok())
+            .unwrap_or(0)
+    };
+    let bytes = |list: &[Idn]| {
+        let words: usize = list
+            .iter()
+            .filter_map(|&idn| db.read(idn, Element::Attribute).ok())
+            .filter_map(|w| match w.as_slice() {
+                [lo, hi] => sercos_wire::attribute::Attribute::from_words([*lo, *hi]).fixed_words(),
+                _ => None,
+            })
+            .sum();
+        u16::try_from(words.saturating_mul(2)).unwrap_or(u16::MAX)
+    };
+    DriveParameters {
+        address,
+        t1min_us: time(T1MIN),
+        t_atmt_us: time(T_ATMT),
+        t5_us: time(T5),
+        t_mtsy_us: time(T_MTSY),
+        t_mtsg_us: time(T_MTSG),
+        at_data_bytes: bytes(&cfg.at_list),
+        mdt_data_bytes: bytes(&cfg.mdt_list),
+    }
+}
+
+/// The cycle the master will plan in phase 2 for `spec`'s ring, from the emulated drives'
+/// own parameters (their IDN files or the standard catalogue): a cycle too short for the
+/// drives, or a ring the RAM cannot hold, is refused here, before minutes of phase-up.
+/// `None` when the master refuses the ring for another reason (a bit rate the chip does
+/// not have, …): building the ring says that in its own words.
+pub fn plan_ring(spec: &RingSpec) -> Result<Option<CycleTiming>, FullStackError> {
+    let addresses: Vec<DriveAddress> = spec
+        .drives
+        .iter()
+        .filter_map(|d| DriveAddress::new(d.address))
+        .collect();
+    let mut cfg = MasterConfig::new(spec.variant, spec.bit_rate, spec.cycle_us, addresses);
+    if !cfg.set_telegram_type(spec.telegram_type) {
+        return Err(RingError::Spec(format!(
+            "telegram type {} is not 0-7 (S-0-0015)",
+            spec.telegram_type
+        ))
+        .into());
+    }
+    let databases = ring::databases(spec)?;
+    let params = spec
+        .drives
+        .iter()
+        .zip(&databases)
+        .map(|(d, db)| drive_parameters(d.address, db, &cfg))
+        .collect();
+    let unplannable = |reason| FullStackError::Unplannable {
+        drives: spec.drives.len(),
+        bit_rate_mbit: spec.bit_rate.mbit(),
+        telegram_type: spec.telegram_type,
+        cycle_us: spec.cycle_us,
+        reason,
+    };
+    let planned = Master::new(cfg).and_then(|m| m.plan_for(params));
+    match planned {
+        Ok((timing, _)) => Ok(Some(timing)),
+        Err(e)
+            if matches!(
+                e.kind,
+                MasterErrorKind::Timing(_) | MasterErrorKind::RingDoesNotFit { .. }
+            ) =>
+        {
+            Err(unplannable(e))
+        }
+        Err(_) => Ok(None),
+    }
 }
 
 /// Builds `s`'s ring (the phase-up not yet run), refusing at once a ring whose layout the
@@ -285,7 +428,9 @@ pub fn build(s: &FullStackScenario) -> Result<BuiltRing, FullStackError> {
             largest: budget.largest_ring(),
         });
     }
-    Ok(ring::build(&s.ring_spec(), Vec::new(), false)?)
+    let spec = s.ring_spec();
+    plan_ring(&spec)?;
+    Ok(ring::build(&spec, Vec::new(), false)?)
 }
 
 /// Runs `ring` until the master is in cyclic operation; the simulated time it took.
@@ -555,6 +700,31 @@ mod tests {
         assert_eq!(names.len(), all.len());
     }
 
+    // Planner (sercdrv::timing::plan_cycle) with the standard drives: 254 drives at 16 Mbit/s
+    // fit 4 ms with standard type 3 (sercos-facts.md S-0-0015), not with type 7 (4348 µs).
+    #[test]
+    fn stack_254_plans_a_4_ms_cycle_with_telegram_type_3_and_not_with_7() {
+        let s = stack_n(254);
+        assert_eq!(
+            (s.cycle_us, s.telegram_type, s.bit_rate),
+            (4000, 3, BitRate::Mbit16)
+        );
+        let timing = plan_ring(&s.ring_spec()).expect("plans").expect("a timing");
+        assert_eq!(timing.cycle_time_us, 4000);
+        let seven = FullStackScenario {
+            telegram_type: TELEGRAM_TYPE_CONFIGURED,
+            ..s
+        };
+        assert!(matches!(
+            plan_ring(&seven.ring_spec()),
+            Err(FullStackError::Unplannable { .. })
+        ));
+        assert!(matches!(
+            build(&seven),
+            Err(FullStackError::Unplannable { .. })
+        ));
+    }
+
     /// The whole stack reaches phase 4 and keeps it under the bench's host load (debug
     /// build: two drives at 16 Mbit/s, 1 ms, to keep the test short).
     #[test]
@@ -565,6 +735,7 @@ mod tests {
             bit_rate: BitRate::Mbit16,
             cycle_us: 1000,
             measure: Measure::Cyclic,
+            telegram_type: TELEGRAM_TYPE_CONFIGURED,
         };
         let mut stack = RunningStack::start(&s).expect("phase 4");
         assert!(stack.phaseup_sim > Duration::from_picos(0));

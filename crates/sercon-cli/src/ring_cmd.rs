@@ -95,6 +95,9 @@ fn spec_of(args: &RingArgs) -> Result<RingSpec> {
 /// Runs `sercon ring`.
 pub fn run(args: RingArgs) -> Result<()> {
     let spec = spec_of(&args)?;
+    // The master plans the cycle in phase 2 from what the drives report; the emulated
+    // drives' parameters are known here, so a cycle too short is said at once.
+    sercon_cli::full_stack::plan_ring(&spec)?;
     let bar = std::io::stderr().is_terminal().then(|| {
         let bar = ProgressBar::new(spec.run_for.as_micros().max(1));
         bar.set_style(

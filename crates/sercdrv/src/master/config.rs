@@ -14,6 +14,35 @@ use crate::timing::{MdtPlacement, TimingRules};
 /// "Timing parameters" table: "0–6 standard, 7 configured").
 pub const TELEGRAM_TYPE_CONFIGURED: u16 = 7;
 
+/// The cyclic data of the standard telegram types 0-6 (S-0-0015, sercos-facts.md "Timing
+/// parameters": "0–6 standard"; contents as the drive manuals give them, the table of
+/// `sercos_drive::telegram_layout`): the MDT's command IDNs and the AT's feedback IDNs, in
+/// record order; `None` for 7 (configured) and above.
+///
+/// | type | MDT | AT |
+/// |---|---|---|
+/// | 0 | – | – |
+/// | 1 | S-0-0080 torque command | – |
+/// | 2 | S-0-0036 velocity command | S-0-0040 velocity feedback |
+/// | 3 | S-0-0036 velocity command | S-0-0051 position feedback |
+/// | 4 | S-0-0047 position command | S-0-0051 position feedback |
+/// | 5 | S-0-0047, S-0-0036 | S-0-0051, S-0-0040 |
+/// | 6 | S-0-0036 velocity command | – |
+pub fn standard_telegram(telegram_type: u16) -> Option<(Vec<Idn>, Vec<Idn>)> {
+    let (mdt, at): (&[u16], &[u16]) = match telegram_type {
+        0 => (&[], &[]),
+        1 => (&[80], &[]),
+        2 => (&[36], &[40]),
+        3 => (&[36], &[51]),
+        4 => (&[47], &[51]),
+        5 => (&[47, 36], &[51, 40]),
+        6 => (&[36], &[]),
+        _ => return None,
+    };
+    let idns = |list: &[u16]| list.iter().map(|&raw| Idn::from_raw(raw)).collect();
+    Some((idns(mdt), idns(at)))
+}
+
 /// The master's configuration. [`MasterConfig::capture_ring`] reproduces the captures'
 /// master (Beckhoff FC7502 with four drives, `../shared/captures/README.md`).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -34,8 +63,9 @@ pub struct MasterConfig {
     /// The drives' addresses in the order of their ATs (at most eight: one service
     /// container each, 410B §4.2 SCPT0-7).
     pub drives: Vec<DriveAddress>,
-    /// S-0-0015, the telegram type written to every drive; only type 7 (configured) is
-    /// supported, its data being given by the two lists.
+    /// S-0-0015, the telegram type written to every drive: 7 (configured, the data given
+    /// by the two lists, which are written as S-0-0016 and S-0-0024) or a standard type 0-6
+    /// whose lists must be [`standard_telegram`]'s ([`MasterConfig::set_telegram_type`]).
     #[doc(alias = "S-0-0015")]
     pub telegram_type: u16,
     /// S-0-0016, the AT configuration list (feedback IDNs, in order).
@@ -79,6 +109,12 @@ pub struct MasterConfig {
     ///
     /// [`Master::submit_service`]: super::Master::submit_service
     pub hold_in_phase2: bool,
+    /// With more drives than service containers, run the phase-2 work of up to eight
+    /// drives at once, one per container (410B §4.2.4 SCPT0-7), the MDT of each cycle
+    /// going to one of them in turn; `true` by default. Up to eight drives phase 2 always
+    /// runs one drive after the other, as the captures' master does (spec-notes "Driver
+    /// master", parallel phase 2).
+    pub parallel_phase2: bool,
 }
 
 impl MasterConfig {
@@ -120,7 +156,35 @@ impl MasterConfig {
             command_polls: 100,
             service_buffer_words: DEFAULT_SERVICE_BUFFER_WORDS,
             hold_in_phase2: false,
+            parallel_phase2: true,
         }
+    }
+
+    /// Sets S-0-0015 to `telegram_type`: a standard type 0-6 sets the two lists to its
+    /// data ([`standard_telegram`]), 7 keeps the lists as they are. `false` (and nothing
+    /// changed) for a type above 7 (sercos-facts.md: "0–6 standard, 7 configured").
+    pub fn set_telegram_type(&mut self, telegram_type: u16) -> bool {
+        if telegram_type == TELEGRAM_TYPE_CONFIGURED {
+            self.telegram_type = telegram_type;
+            return true;
+        }
+        let Some((mdt, at)) = standard_telegram(telegram_type) else {
+            return false;
+        };
+        self.telegram_type = telegram_type;
+        self.mdt_list = mdt;
+        self.at_list = at;
+        true
+    }
+
+    /// Whether the telegram type and the two lists agree: type 7 with any lists, a
+    /// standard type with its own (sercos-facts.md S-0-0015).
+    pub(crate) fn telegram_type_ok(&self) -> bool {
+        if self.telegram_type == TELEGRAM_TYPE_CONFIGURED {
+            return true;
+        }
+        standard_telegram(self.telegram_type)
+            .is_some_and(|(mdt, at)| mdt == self.mdt_list && at == self.at_list)
     }
 
     /// The captures' ring: SERCON816, 2 Mbit/s, 2 ms, drives 1-4.

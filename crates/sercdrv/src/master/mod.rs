@@ -26,7 +26,7 @@ mod routing;
 mod script;
 mod status;
 
-pub use config::{MasterConfig, TELEGRAM_TYPE_CONFIGURED};
+pub use config::{MasterConfig, TELEGRAM_TYPE_CONFIGURED, standard_telegram};
 pub use error::{MasterError, MasterErrorKind};
 pub use status::{DriveStatus, MasterStatus, Progress};
 
@@ -149,6 +149,11 @@ pub struct Master {
     /// Drive of this cycle's MDT (phases 1-2) and of the previous one.
     addressed: Option<DriveAddress>,
     previous: Option<DriveAddress>,
+    /// The service container the MDT of this cycle (phases 1-2) was pointed at: the AT of
+    /// the next cycle answers that MDT, so its service info belongs in the same container.
+    addressed_nsv: Option<u8>,
+    /// The phase-2 lane addressed last (parallel phase 2, [`Master::phase2_lanes`]).
+    turn: usize,
     errors: Vec<MasterError>,
     last_error: Option<MasterError>,
     cycles: u64,
@@ -170,8 +175,10 @@ impl Master {
         if cfg.drives.len() > MAX_DRIVES {
             return bad("more than 254 drives (addresses 1-254)");
         }
-        if cfg.telegram_type != TELEGRAM_TYPE_CONFIGURED {
-            return bad("only telegram type 7 (S-0-0016/S-0-0024) is supported");
+        if !cfg.telegram_type_ok() {
+            return bad(
+                "telegram type (S-0-0015): 0-6 with their standard lists, or 7 (S-0-0016/S-0-0024)",
+            );
         }
         if !cfg.slot_buffer_ok() {
             return bad("service buffer length (1-251 words)");
@@ -225,6 +232,8 @@ impl Master {
             ring_delay_us: 0,
             addressed: None,
             previous: None,
+            addressed_nsv: None,
+            turn: 0,
             errors: Vec::new(),
             last_error: None,
             cycles: 0,
@@ -583,6 +592,17 @@ impl Master {
         Ok((timing, fallback))
     }
 
+    /// The cycle's timing and phase 3-4 layout phase 2 will choose if the drives report
+    /// `params` (their timing parameters and data lengths, one per configured drive):
+    /// what [`Master`] computes after reading them, to be asked before the start so that a
+    /// cycle too short for the drives is known at once (spec-notes "Driver master").
+    pub fn plan_for(
+        &self,
+        params: Vec<DriveParameters>,
+    ) -> Result<(CycleTiming, CyclicLayout), MasterError> {
+        self.plan_and_choose(params)
+    }
+
     /// Whether the drives share the service containers (more drives than containers).
     fn shared_containers(&self) -> bool {
         self.drives.len() > CONTAINERS
@@ -653,6 +673,7 @@ impl Master {
         self.host_sc = None;
         self.addressed = None;
         self.previous = None;
+        self.addressed_nsv = None;
         self.state = State::Phase0 { closed: 0 };
     }
 
@@ -722,29 +743,31 @@ impl Master {
     fn address<B: SerconBus + ?Sized>(&mut self, bus: &mut B, next: DriveAddress) {
         self.previous = self.addressed;
         self.addressed = Some(next);
+        let answered_nsv = self.addressed_nsv.take();
         let Some(places) = self.places else {
             return;
         };
         let router = self.sc.as_mut().map(|sc| &*sc.router_mut());
-        let nsv_of = |d: Option<DriveAddress>| {
-            let d = d?;
-            // Shared containers: the one routed to the drive; a drive without one (phase
-            // 1) gets its index's container, which is idle then.
-            router.and_then(|r| r.nsv_of(d)).or_else(|| {
-                self.drives
-                    .iter()
-                    .find(|x| x.status.address == d)
-                    .map(|x| x.nsv)
-            })
-        };
+        // Shared containers: the one routed to the drive; a drive without one (phase 1)
+        // gets its index's container, which is idle then.
+        let next_nsv = router.and_then(|r| r.nsv_of(next)).or_else(|| {
+            self.drives
+                .iter()
+                .find(|x| x.status.address == next)
+                .map(|x| x.nsv)
+        });
         // Phases 1-2 carry one record each way; the driver points the containers at the
         // service container of the drive concerned (spec-notes "Driver timing and RAM
         // layout": "the driver rebinds NSV with the addressed drive").
-        if let Some(nsv) = nsv_of(Some(next)) {
+        if let Some(nsv) = next_nsv {
             set_nsv(bus, places.mdt_container, nsv);
         }
-        // The AT of the next cycle answers this cycle's MDT (410B §4.2.1 EN = 3 on the slave).
-        if let Some(nsv) = nsv_of(self.previous) {
+        self.addressed_nsv = next_nsv;
+        // The AT of the next cycle answers this cycle's MDT (410B §4.2.1 EN = 3 on the
+        // slave): its service info goes into the container that MDT came from, even if the
+        // container has been routed to another drive since (spec-notes "Driver master",
+        // parallel phase 2).
+        if let Some(nsv) = answered_nsv {
             set_nsv(bus, places.at_container, nsv);
         }
         // 410B §4.2.1 EN = 2: sent every cycle, ADR rewritten per cycle.
@@ -816,8 +839,9 @@ impl Master {
 
     fn enter_phase2<B: SerconBus + ?Sized>(&mut self, bus: &mut B) {
         self.enter_phase(bus, 2);
-        let mut items = Vec::new();
+        let mut per_drive = Vec::new();
         for d in &self.drives {
+            let mut items = Vec::new();
             let a = d.status.address;
             // The captures' master reads these, in this order, attribute then value.
             for (idn, what) in [
@@ -841,8 +865,10 @@ impl Master {
             for (i, idn) in self.cfg.mdt_list.iter().enumerate() {
                 items.push(Item::attribute(a, *idn, Purpose::MdtLength(i)));
             }
+            per_drive.push(items);
         }
-        self.lanes = vec![Lane::new(items)];
+        self.lanes = self.phase2_lanes([per_drive]);
+        self.turn = 0;
         self.state = State::Phase2Read;
         let first = self.lanes.first().and_then(Lane::drive);
         if let Some(first) = first {
@@ -1073,14 +1099,63 @@ impl Master {
             }
         }
         let next = self
-            .lanes
-            .first()
-            .and_then(Lane::drive)
+            .next_phase2_drive()
             .or_else(|| self.tool.drive())
             .or(self.addressed);
         if let Some(next) = next {
             self.address(bus, next);
         }
+    }
+
+    /// The phase-2 work as lanes: `stages` are lists of each drive's requests, in the
+    /// drives' order, carried out stage after stage.
+    ///
+    /// Up to eight drives (each with a service container of its own): one lane, all of a
+    /// stage's drives one after the other, then the next stage, as the captures' master
+    /// does. More drives: one lane per service container (410B §4.2.4 SCPT0-7), drive `i`
+    /// in lane `i mod 8`, each lane keeping the stage order for its drives; the lanes run
+    /// at once and the MDT of each cycle goes to one of them in turn (spec-notes "Driver
+    /// master", parallel phase 2).
+    fn phase2_lanes<const N: usize>(&self, stages: [Vec<Vec<Item>>; N]) -> Vec<Lane> {
+        let lanes = if self.shared_containers() && self.cfg.parallel_phase2 {
+            CONTAINERS
+        } else {
+            1
+        };
+        let mut items: Vec<Vec<Item>> = vec![Vec::new(); lanes];
+        for stage in stages {
+            for (i, drive_items) in stage.into_iter().enumerate() {
+                if let Some(lane) = items.get_mut(i % lanes) {
+                    lane.extend(drive_items);
+                }
+            }
+        }
+        items
+            .into_iter()
+            .filter(|l| !l.is_empty())
+            .map(Lane::new)
+            .collect()
+    }
+
+    /// The drive the next phase-2 MDT goes to: the one lane's drive, or with parallel
+    /// lanes the next lane after the one addressed last that has a request running (one
+    /// with requests waiting if none has).
+    fn next_phase2_drive(&mut self) -> Option<DriveAddress> {
+        let n = self.lanes.len();
+        if n <= 1 {
+            return self.lanes.first().and_then(Lane::drive);
+        }
+        let order = (1..=n).map(|k| (self.turn + k) % n);
+        let chosen = order
+            .clone()
+            .find(|&i| self.lanes.get(i).is_some_and(|l| l.running.is_some()))
+            .or_else(|| {
+                order
+                    .clone()
+                    .find(|&i| self.lanes.get(i).is_some_and(|l| !l.is_done()))
+            })?;
+        self.turn = chosen;
+        self.lanes.get(chosen).and_then(Lane::drive)
     }
 
     /// Plans the cycle from what the drives reported and queues the phase-2 writes and
@@ -1103,41 +1178,53 @@ impl Master {
             let Some(values) = timing.parameter_writes(a.get()) else {
                 continue;
             };
+            let mut writes_now = Vec::new();
             for (idn, value) in values {
-                writes.push(Item::new(
+                writes_now.push(Item::new(
                     a,
                     Request::write_value(idn, vec![value as u16]),
                     Purpose::Write,
                 ));
             }
-            writes.push(Item::new(
+            writes_now.push(Item::new(
                 a,
                 Request::write_value(Idn::TELEGRAM_TYPE, vec![self.cfg.telegram_type]),
                 Purpose::Write,
             ));
-            let at: Vec<u16> = self.cfg.at_list.iter().map(|i| i.raw()).collect();
-            let mdt: Vec<u16> = self.cfg.mdt_list.iter().map(|i| i.raw()).collect();
-            writes.push(Item::new(
-                a,
-                Request::write_list(Idn::AT_CONFIGURATION_LIST, &at),
-                Purpose::Write,
-            ));
-            writes.push(Item::new(
-                a,
-                Request::write_list(Idn::MDT_CONFIGURATION_LIST, &mdt),
-                Purpose::Write,
-            ));
-            reset.extend(Item::command(a, RESET_CLASS_1));
+            // sercos-facts.md S-0-0015: only type 7 is configured by S-0-0016 and S-0-0024;
+            // a standard type brings its own data (spec-notes "Driver master").
+            if self.cfg.telegram_type == TELEGRAM_TYPE_CONFIGURED {
+                writes_now.extend(self.list_writes(a));
+            }
+            writes.push(writes_now);
+            reset.push(Item::command(a, RESET_CLASS_1).to_vec());
             // As the captures' master: S-0-0127 set, polled and acknowledged (cancelled) in
             // phase 2, before the switch; the drive remembers that it passed (spec-notes
             // "Driver slave and drive node").
-            check.extend(Item::command(a, Idn::PHASE_3_TRANSITION_CHECK));
+            check.push(Item::command(a, Idn::PHASE_3_TRANSITION_CHECK).to_vec());
         }
-        writes.extend(reset);
-        writes.extend(check);
-        self.lanes = vec![Lane::new(writes)];
+        self.lanes = self.phase2_lanes([writes, reset, check]);
+        self.turn = 0;
         self.timing = Some(timing);
         Ok(())
+    }
+
+    /// S-0-0016 and S-0-0024 written with the configured lists (telegram type 7).
+    fn list_writes(&self, drive: DriveAddress) -> [Item; 2] {
+        let at: Vec<u16> = self.cfg.at_list.iter().map(|i| i.raw()).collect();
+        let mdt: Vec<u16> = self.cfg.mdt_list.iter().map(|i| i.raw()).collect();
+        [
+            Item::new(
+                drive,
+                Request::write_list(Idn::AT_CONFIGURATION_LIST, &at),
+                Purpose::Write,
+            ),
+            Item::new(
+                drive,
+                Request::write_list(Idn::MDT_CONFIGURATION_LIST, &mdt),
+                Purpose::Write,
+            ),
+        ]
     }
 
     /// Writes the phase 3-4 block, switches to it with phase 3 and queues S-0-0128.
@@ -1469,6 +1556,7 @@ impl HostProgram for Master {
                 self.host_sc = None;
                 self.addressed = None;
                 self.previous = None;
+                self.addressed_nsv = None;
                 for d in &mut self.drives {
                     d.status.answered = false;
                 }

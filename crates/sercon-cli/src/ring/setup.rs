@@ -257,7 +257,7 @@ fn trace_config(spec: &RingSpec, nodes: usize) -> TraceConfig {
 }
 
 /// Loads the IDN database of every drive (the standard catalogue where no file is given).
-pub(super) fn databases(spec: &RingSpec) -> Result<Vec<IdnDatabase>, RingError> {
+pub fn databases(spec: &RingSpec) -> Result<Vec<IdnDatabase>, RingError> {
     spec.drives
         .iter()
         .map(|d| match &d.idn_file {
@@ -276,7 +276,14 @@ pub fn build(spec: &RingSpec, faults: Vec<Fault>, traces: bool) -> Result<BuiltR
         .iter()
         .filter_map(|d| DriveAddress::new(d.address))
         .collect();
-    let cfg = MasterConfig::new(spec.variant, spec.bit_rate, spec.cycle_us, addresses);
+    let mut cfg = MasterConfig::new(spec.variant, spec.bit_rate, spec.cycle_us, addresses);
+    // sercos-facts.md S-0-0015: 0-6 standard, 7 configured.
+    if !cfg.set_telegram_type(spec.telegram_type) {
+        return Err(RingError::Spec(format!(
+            "telegram type {} is not 0-7 (S-0-0015)",
+            spec.telegram_type
+        )));
+    }
     let master = Master::new(cfg).map_err(RingError::Master)?;
     let master = Rc::new(RefCell::new(MasterProbe::new(master)));
     let mut nodes = vec![NodeConfig::new("master", chip(spec.variant))];

@@ -66,6 +66,9 @@ pub struct RingSpec {
     pub profile: super::motion_profile::MotionProfile,
     /// Traces.
     pub traces: TraceSpec,
+    /// S-0-0015, the telegram type the master writes to every drive: 7 (configured, the
+    /// master's lists) or a standard type 0-6 (`sercdrv::master::standard_telegram`).
+    pub telegram_type: u16,
 }
 
 /// Default fibre length between two nodes, metres.
@@ -108,6 +111,7 @@ impl Default for RingSpec {
             faults: Vec::new(),
             profile: super::motion_profile::MotionProfile::default(),
             traces: TraceSpec::default(),
+            telegram_type: sercdrv::master::TELEGRAM_TYPE_CONFIGURED,
         }
     }
 }
