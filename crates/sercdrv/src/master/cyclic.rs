@@ -8,6 +8,7 @@ use sercos_wire::address::DriveAddress;
 use sercos_wire::idn::Idn;
 
 use crate::ram_layout::ContainerPlace;
+use crate::service_channel::DriveIndex;
 
 /// Words of the control/status word and the service info before the cyclic data
 /// (sercos-telegrams.md, "Data Record").
@@ -70,6 +71,8 @@ pub(crate) struct CyclicImage {
     at_order: Vec<usize>,
     /// Indices of `drives` in the order of their MDT records (the order TFIFO takes them).
     mdt_order: Vec<usize>,
+    /// Indices of `drives` by address.
+    index: DriveIndex,
 }
 
 /// 410B §4.2.1 receive header word 0 bit 13, RERR: "errored or not received".
@@ -92,6 +95,7 @@ impl CyclicImage {
         at_order.sort_by_key(|&i| drives.get(i).map(|d| d.at_header));
         let mut mdt_order: Vec<usize> = (0..drives.len()).collect();
         mdt_order.sort_by_key(|&i| drives.get(i).map(|d| (d.command.control, d.command.data)));
+        let index = DriveIndex::new(drives.iter().map(|d| d.address));
         CyclicImage {
             variant,
             buffering,
@@ -99,15 +103,17 @@ impl CyclicImage {
             drives,
             at_order,
             mdt_order,
+            index,
         }
     }
 
     pub fn drive(&self, address: DriveAddress) -> Option<&DriveCyclic> {
-        self.drives.iter().find(|d| d.address == address)
+        self.drives.get(self.index.get(address)?)
     }
 
     pub fn drive_mut(&mut self, address: DriveAddress) -> Option<&mut DriveCyclic> {
-        self.drives.iter_mut().find(|d| d.address == address)
+        let i = self.index.get(address)?;
+        self.drives.get_mut(i)
     }
 
     /// Writes every drive's record for the next MDT. Double buffer: into the buffer the

@@ -44,8 +44,8 @@ use crate::ram_layout::{
     Role,
 };
 use crate::service_channel::{
-    CommandStatus, Completion, ContainerSlot, HostRunChannel, Request, ServiceChannelMaster,
-    Ticket, Wiring,
+    CommandStatus, Completion, ContainerSlot, DriveIndex, HostRunChannel, Request,
+    ServiceChannelMaster, Ticket, Wiring,
 };
 use crate::timing::{self, CycleTiming, DriveParameters, MdtPlacement, TimingRequest};
 
@@ -127,6 +127,8 @@ pub struct Master {
     state: State,
     phase: u8,
     drives: Vec<DriveInfo>,
+    /// Positions in `drives` by address.
+    index: DriveIndex,
     layout: Option<RamLayout>,
     places: Option<NonCyclicPlaces>,
     sc: Option<ServiceChannelMaster<MasterRouter>>,
@@ -212,11 +214,13 @@ impl Master {
                 mdt_words: vec![None; cfg.mdt_list.len()],
             })
             .collect();
+        let index = DriveIndex::new(cfg.drives.iter().copied());
         Ok(Master {
             cfg,
             state: State::Idle,
             phase: 0,
             drives,
+            index,
             layout: None,
             places: None,
             sc: None,
@@ -1001,7 +1005,7 @@ impl Master {
         match item.purpose {
             Purpose::Timing(which) => {
                 let value = first.unwrap_or(0);
-                if let Some(d) = self.drives.iter_mut().find(|d| d.status.address == drive) {
+                if let Some(d) = self.index.get(drive).and_then(|i| self.drives.get_mut(i)) {
                     let p = &mut d.params;
                     match which {
                         TimingValue::T1min => p.t1min_us = value,
@@ -1020,7 +1024,7 @@ impl Master {
                     self.halt(error);
                     return false;
                 };
-                if let Some(d) = self.drives.iter_mut().find(|d| d.status.address == drive) {
+                if let Some(d) = self.index.get(drive).and_then(|i| self.drives.get_mut(i)) {
                     let list = if matches!(item.purpose, Purpose::AtLength(_)) {
                         &mut d.at_words
                     } else {
@@ -1406,11 +1410,12 @@ impl Master {
             }
         }
         for d in &image.drives {
-            if let Some(info) = self
-                .drives
-                .iter_mut()
-                .find(|i| i.status.address == d.address)
-            {
+            // One look-up per drive, not a scan (linear per cycle in the ring's size).
+            let info = self
+                .index
+                .get(d.address)
+                .and_then(|i| self.drives.get_mut(i));
+            if let Some(info) = info {
                 if d.last_ok {
                     info.status.ats_received = info.status.ats_received.saturating_add(1);
                 } else {

@@ -79,6 +79,8 @@ struct Bank {
 #[derive(Debug)]
 pub struct HostRunChannel {
     banks: Vec<Bank>,
+    /// Bank and slot of each drive by address (one look-up per drive and cycle).
+    places: Vec<Option<(usize, ContainerSlot)>>,
     hs_timeout: u8,
     busy_timeout: u8,
 }
@@ -113,8 +115,18 @@ impl HostRunChannel {
             sc.init(&mut ram);
             banks.push(Bank { ram, sc, slots });
         }
+        // The first container of a drive serves it (addresses 1-254, sercos-telegrams.md).
+        let mut places: Vec<Option<(usize, ContainerSlot)>> = vec![None; 256];
+        for (i, bank) in banks.iter().enumerate() {
+            for &(drive, slot) in &bank.slots {
+                if let Some(place) = places.get_mut(usize::from(drive.get())) {
+                    place.get_or_insert((i, slot));
+                }
+            }
+        }
         Ok(HostRunChannel {
             banks,
+            places,
             hs_timeout: 0,
             busy_timeout: 0,
         })
@@ -133,12 +145,7 @@ impl HostRunChannel {
     }
 
     fn locate(&self, drive: DriveAddress) -> Option<(usize, ContainerSlot)> {
-        self.banks.iter().enumerate().find_map(|(i, b)| {
-            b.slots
-                .iter()
-                .find(|(d, _)| *d == drive)
-                .map(|&(_, slot)| (i, slot))
-        })
+        self.places.get(usize::from(drive.get())).copied().flatten()
     }
 
     /// Queues `request` for `drive`; `None` if the drive has no host-run container.

@@ -27,6 +27,7 @@
 
 mod command;
 mod container;
+mod drive_index;
 mod error;
 mod host_run;
 mod master;
@@ -36,6 +37,7 @@ mod transfer;
 
 pub use command::CommandStatus;
 pub use container::{ContainerSlot, SlotError};
+pub(crate) use drive_index::DriveIndex;
 pub use error::{ErrorKind, ServiceChannelError};
 pub use host_run::{HostRunChannel, SoftRam};
 pub use master::{ContainerRouter, FixedRouting, ServiceChannelMaster, Wiring};
