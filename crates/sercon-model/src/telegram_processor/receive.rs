@@ -208,19 +208,17 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
         let pos = usize::from(c.pos);
         let len = usize::from(c.control.len);
         record.clear();
-        for i in 0..len {
-            let k = 2 * (pos + i);
-            match (data.get(k), data.get(k + 1)) {
-                (Some(lo), Some(hi)) => record.push(u16::from_le_bytes([*lo, *hi])),
-                _ => {
-                    overrun = true;
-                    break;
-                }
-            }
-        }
-        if overrun {
+        // The container's words must lie inside the telegram's data (an empty container
+        // always does).
+        let Some(src) = data
+            .get(2 * pos..2 * (pos + len))
+            .or((len == 0).then_some(&[][..]))
+        else {
+            overrun = true;
             break;
-        }
+        };
+        let (pairs, _) = src.as_chunks::<2>();
+        record.extend(pairs.iter().map(|p| u16::from_le_bytes(*p)));
         match buffering {
             // RFIFO collects the block's DMA receive data; words of an earlier block still
             // unread are an overrun (spec-notes "Master DMA layout").
@@ -228,8 +226,15 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
             // Double buffer: write the buffer that is not valid (VAL selects the valid one).
             _ => {
                 let dst = c.buffer(buffering, !h.val);
-                for (i, w) in record.iter().enumerate() {
-                    walk::set_word(&mut chip.ram, dst + i as u32, *w);
+                match walk::words_mut(&mut chip.ram, dst, record.len()) {
+                    Some(words) => words.copy_from_slice(&record),
+                    // Only the words inside the RAM are written (the walk keeps containers
+                    // inside).
+                    None => {
+                        for (i, w) in record.iter().enumerate() {
+                            walk::set_word(&mut chip.ram, dst + i as u32, *w);
+                        }
+                    }
                 }
             }
         }

@@ -144,8 +144,14 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
             }
             _ => {
                 let from = c.buffer(buffering, hdr.val);
-                for i in 0..len {
-                    record.push(walk::word(&chip.ram, from + i as u32).unwrap_or(0));
+                match walk::words(&chip.ram, from, len) {
+                    Some(words) => record.extend_from_slice(words),
+                    // Words outside the RAM read as 0 (the walk keeps containers inside).
+                    None => {
+                        for i in 0..len {
+                            record.push(walk::word(&chip.ram, from + i as u32).unwrap_or(0));
+                        }
+                    }
                 }
             }
         }
@@ -161,14 +167,13 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
             let o = service_container::on_transmit(&mut chip.ram, variant, nsv, mode, &mut record);
             raise_sc(chip, nsv, o.int_sc);
         }
-        for w in record.iter() {
-            if words >= tlen {
-                overrun = true;
-                break;
-            }
+        // Words past TLEN are not sent (410B §4.2.1 TLEN): a container overrun.
+        let take = record.len().min(tlen.saturating_sub(words));
+        overrun |= take < record.len();
+        for w in record.iter().take(take) {
             buf.extend_from_slice(&w.to_le_bytes());
-            words += 1;
         }
+        words += take;
     }
     // Containers shorter than TLEN: the rest of the telegram is sent as 0.
     while words < tlen {

@@ -12,6 +12,18 @@ pub(crate) fn word(ram: &[u16], addr: u32) -> Option<u16> {
     usize::try_from(addr).ok().and_then(|a| ram.get(a)).copied()
 }
 
+/// The `len` RAM words from `addr`, `None` unless all of them are inside the RAM.
+pub(crate) fn words(ram: &[u16], addr: u32, len: usize) -> Option<&[u16]> {
+    let from = usize::try_from(addr).ok()?;
+    ram.get(from..from.checked_add(len)?)
+}
+
+/// The `len` RAM words from `addr` for writing, `None` unless all are inside the RAM.
+pub(crate) fn words_mut(ram: &mut [u16], addr: u32, len: usize) -> Option<&mut [u16]> {
+    let from = usize::try_from(addr).ok()?;
+    ram.get_mut(from..from.checked_add(len)?)
+}
+
 /// Writes `value` at `addr`; outside the RAM nothing happens.
 pub(crate) fn set_word(ram: &mut [u16], addr: u32, value: u16) {
     if let Some(w) = usize::try_from(addr).ok().and_then(|a| ram.get_mut(a)) {
