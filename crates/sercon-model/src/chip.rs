@@ -21,6 +21,10 @@ pub struct Chip {
     pub(crate) engine: Engine,
     pub(crate) ram: Vec<u16>,
     pub(crate) traced: PinSet,
+    /// A serial-port pin (IDLE, TxD, REACTN) is traced: then its level changes are
+    /// applied in time order like the status changes (kept with `traced`; asked on every
+    /// turn of the event loop).
+    pub(crate) serial_pins_traced: bool,
     pub(crate) events: Vec<PinEvent>,
     /// RSTN is low: the chip is held in reset.
     pub(crate) in_reset: bool,
@@ -70,6 +74,7 @@ impl Chip {
             // (spec-notes "RAM after power-up": 0).
             ram: vec![0; usize::from(cfg.variant.ram_words())],
             traced: PinSet::EMPTY,
+            serial_pins_traced: false,
             events: Vec::new(),
             in_reset: false,
             cyc_clk: false,
@@ -258,6 +263,8 @@ impl Chip {
     pub fn set_traced_pins(&mut self, pins: PinSet) {
         self.touched();
         self.traced = pins;
+        self.serial_pins_traced =
+            pins.contains(Pin::Idle) || pins.contains(Pin::TxD) || pins.contains(Pin::Reactn);
     }
 
     /// The pins currently traced.

@@ -214,9 +214,13 @@ impl Chip {
     /// Whether a serial-port pin (IDLE, TxD, REACTN) is traced: then its level changes
     /// are applied in time order like the status changes.
     fn serial_pins_traced(&self) -> bool {
-        self.traced.contains(Pin::Idle)
-            || self.traced.contains(Pin::TxD)
-            || self.traced.contains(Pin::Reactn)
+        debug_assert_eq!(
+            self.serial_pins_traced,
+            self.traced.contains(Pin::Idle)
+                || self.traced.contains(Pin::TxD)
+                || self.traced.contains(Pin::Reactn)
+        );
+        self.serial_pins_traced
     }
 
     /// The next instant the serial port changes something the chip must apply in time
