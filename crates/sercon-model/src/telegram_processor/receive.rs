@@ -217,8 +217,11 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
             overrun = true;
             break;
         };
-        let (pairs, _) = src.as_chunks::<2>();
-        record.extend(pairs.iter().map(|p| u16::from_le_bytes(*p)));
+        record.extend(src.chunks_exact(2).map(|p| match p {
+            [lo, hi] => u16::from_le_bytes([*lo, *hi]),
+            // chunks_exact(2) gives pairs only.
+            _ => 0,
+        }));
         match buffering {
             // RFIFO collects the block's DMA receive data; words of an earlier block still
             // unread are an overrun (spec-notes "Master DMA layout").
