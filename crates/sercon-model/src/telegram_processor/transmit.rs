@@ -170,16 +170,18 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
         // Words past TLEN are not sent (410B §4.2.1 TLEN): a container overrun.
         let take = record.len().min(tlen.saturating_sub(words));
         overrun |= take < record.len();
-        for w in record.iter().take(take) {
-            buf.extend_from_slice(&w.to_le_bytes());
+        // Little-endian words (410B §4.2.2), written into the telegram in one go.
+        let at = buf.len();
+        buf.resize(at + 2 * take, 0);
+        if let Some(dst) = buf.get_mut(at..) {
+            for (d, w) in dst.chunks_exact_mut(2).zip(record.iter()) {
+                d.copy_from_slice(&w.to_le_bytes());
+            }
         }
         words += take;
     }
     // Containers shorter than TLEN: the rest of the telegram is sent as 0.
-    while words < tlen {
-        buf.extend_from_slice(&[0, 0]);
-        words += 1;
-    }
+    buf.resize(buf.len() + 2 * tlen.saturating_sub(words), 0);
     chip.tp.fifo.tx.clear();
     // The FIFO takes the words of this header's next telegram from now on: DMAREQT is
     // active again (410B §2 "becomes active when data can be written to the transmit
