@@ -92,6 +92,9 @@ pub struct Simulation {
     out_floors: Vec<Instant>,
     /// Delay of each fibre (dense copy of `segments[k].delay`).
     seg_delays: Vec<Duration>,
+    /// The shortest fibre's delay, if not zero (`host_run`: no signal gets from one node to
+    /// another faster).
+    min_fibre_delay: Option<Duration>,
     /// Hop into node k cannot change a passing slave telegram apart from its delay: the
     /// fibre into k has no fault, is not traced and keeps nothing; k has no power windows.
     static_plain: Vec<bool>,
@@ -223,6 +226,11 @@ impl Simulation {
         }
         let mut sim = Simulation {
             out_floors: vec![Instant::ZERO; n],
+            min_fibre_delay: seg_delays
+                .iter()
+                .copied()
+                .min()
+                .filter(|d| *d > Duration::ZERO),
             seg_delays: seg_delays.clone(),
             plain_hop: vec![false; n],
             static_plain,

@@ -136,13 +136,19 @@ impl Simulation {
         };
         let target = node.chip.now().saturating_add(cost);
         let until = node.clock.to_global(target);
+        // The shortest fibre: nothing a node sends at `e` reaches another before `e + hop`.
+        let hop = self.min_fibre_delay;
         // Quiet access: no node waits to be served (its host or output could reach this
-        // chip), no queued event up to the access's end and nothing of this chip due before
-        // it (no internal event, so no pin or interrupt change; no output segment). Nothing
-        // can reach or leave the chip meanwhile, so moving it on is all the steps below
-        // would do (they would serve and reschedule the node for nothing).
+        // chip), no fault event up to the access's end, no node wake early enough for what
+        // it sends to arrive before the access ends (its arrival is a fibre delay later at
+        // the least), and nothing of this chip due before then (no internal event, so no
+        // pin or interrupt change; no output segment). Nothing can reach or leave the chip
+        // meanwhile, so moving it on is all the steps below would do (they would serve and
+        // reschedule the node for nothing).
+        let reaches = |e: Instant| hop.map_or(e, |h| e.saturating_add(h)) <= until;
         if self.touched.is_empty()
-            && self.queue.peek_time().is_none_or(|e| e > until)
+            && self.queue.peek_fault_time().is_none_or(|e| e > until)
+            && !self.queue.peek_wake_time().is_some_and(reaches)
             && node.chip.next_event_at().is_none_or(|e| e > target)
         {
             if let Some(node) = self.nodes.get_mut(j) {
@@ -150,12 +156,6 @@ impl Simulation {
             }
             return Ok(());
         }
-        let hop = self
-            .seg_delays
-            .iter()
-            .copied()
-            .min()
-            .filter(|d| *d > Duration::ZERO);
         loop {
             let Some(node) = self.nodes.get_mut(j) else {
                 return Ok(());

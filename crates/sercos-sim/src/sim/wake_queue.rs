@@ -81,6 +81,20 @@ impl WakeQueue {
         Some(Instant::from_picos(t))
     }
 
+    /// The time of the next node wake, if any.
+    pub(super) fn peek_wake_time(&self) -> Option<Instant> {
+        self.heap
+            .first()
+            .map(|k| Instant::from_picos(key_time(*k)))
+    }
+
+    /// The time of the next fault event, if any.
+    pub(super) fn peek_fault_time(&self) -> Option<Instant> {
+        self.faults
+            .get(self.next_fault)
+            .map(|e| Instant::from_picos(e.0))
+    }
+
     /// Takes the next event if it happens at or before `limit`.
     pub(super) fn pop_until(&mut self, limit: Instant) -> Option<(Instant, Ev)> {
         let limit = limit.as_picos();
