@@ -83,9 +83,7 @@ impl WakeQueue {
 
     /// The time of the next node wake, if any.
     pub(super) fn peek_wake_time(&self) -> Option<Instant> {
-        self.heap
-            .first()
-            .map(|k| Instant::from_picos(key_time(*k)))
+        self.heap.first().map(|k| Instant::from_picos(key_time(*k)))
     }
 
     /// The time of the next fault event, if any.
