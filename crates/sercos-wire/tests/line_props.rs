@@ -52,6 +52,20 @@ proptest! {
     }
 
     // Writing into a caller's buffer gives the same bits as the growable buffer.
+    /// `BitVec::inverted` (a byte at a time) equals the bits inverted one by one, and
+    /// keeps the padding 0 (equal vectors compare equal).
+    #[test]
+    fn inverted_equals_bit_by_bit(bits in proptest::collection::vec(any::<bool>(), 0..200)) {
+        let mut v = BitVec::new();
+        let mut inv = BitVec::new();
+        for b in &bits {
+            v.push(*b);
+            inv.push(!*b);
+        }
+        prop_assert_eq!(v.inverted(), inv);
+        prop_assert_eq!(v.inverted().inverted(), v);
+    }
+
     #[test]
     fn bit_writer_equals_bit_vec(config in config(), telegrams in stream()) {
         let mut vec = BitVec::new();

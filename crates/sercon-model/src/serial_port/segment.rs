@@ -19,7 +19,7 @@
 
 use std::sync::Arc;
 
-use sercos_wire::line::{BitSink, BitVec, Bits};
+use sercos_wire::line::{BitVec, Bits};
 use sercos_wire::time::{Duration, Instant};
 
 /// What the line carries during a segment.
@@ -211,23 +211,9 @@ fn extend(out: &mut BitVec, bits: Bits<'_>) {
     }
 }
 
-/// The bits of `bits`, inverted (a byte at a time: the bits are packed first bit in the
-/// most significant position, as `BitSink::put` writes them).
+/// The bits of `bits`, inverted.
 fn invert_bits(bits: &BitVec) -> BitVec {
-    let len = bits.len();
-    let mut out = BitVec::with_capacity(usize::try_from(len).unwrap_or(0));
-    let mut left = len;
-    for byte in bits.as_bytes() {
-        let n = left.min(8) as u32;
-        if n == 0 {
-            break;
-        }
-        let inv = u32::from(!*byte) >> (8 - n);
-        // A BitVec grows without limit: put cannot fail.
-        let _ = out.put(inv, n);
-        left -= u64::from(n);
-    }
-    out
+    bits.inverted()
 }
 
 #[cfg(test)]

@@ -227,6 +227,21 @@ impl BitVec {
     pub fn push(&mut self, bit: bool) {
         let _ = self.put(u32::from(bit), 1);
     }
+
+    /// The same bits, each inverted (a byte at a time; the padding stays 0).
+    pub fn inverted(&self) -> BitVec {
+        let mut bytes: alloc::vec::Vec<u8> = self.bytes.iter().map(|b| !b).collect();
+        let rem = (self.len % 8) as u32;
+        if rem != 0
+            && let Some(last) = bytes.last_mut()
+        {
+            *last &= !(0xFFu8 >> rem);
+        }
+        BitVec {
+            bytes,
+            len: self.len,
+        }
+    }
 }
 
 #[cfg(feature = "alloc")]
