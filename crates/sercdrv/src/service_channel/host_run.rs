@@ -14,6 +14,7 @@
 use sercon_regs::SerconBus;
 use sercon_regs::Variant;
 use sercon_regs::ram::service::{SC_CONTROL_WORDS, ScMaster};
+use sercon_regs::ram::service_rules::ScBufferWindow;
 use sercos_wire::address::DriveAddress;
 use sercos_wire::telegram::{ControlWord, StatusWord};
 use sercos_wire::time::{Duration, Instant};
@@ -222,18 +223,12 @@ impl HostRunChannel {
             return;
         };
         let mut m = slot.master(&mut bank.ram);
-        count_cycle(&mut m, hs_timeout, busy_timeout);
-        // 410B §4.2.4 M_BUSY: "Service container waits for interaction of microprocessor";
-        // while it is set no new step starts and the present step is repeated.
-        if acknowledged(&m) && !m.m_busy {
-            // 410B §4.2.4 HS_MDT: toggled for every new step (sercos-telegrams.md MDT
-            // control word bit 0).
-            m.hs_mdt = !m.hs_mdt;
-            // 410B §4.2.4 SETEND: END_MDT on the step reaching the buffer's end.
-            m.end_mdt = m.setend && step_is_final(&m);
-            m.err_cnt = 0;
-            m.busy_cnt = false;
-        }
+        // 410B §4.2.4 ERR_CNT/BUSY_CNT, 410B §4.1 0DH: the cycle of an unacknowledged step
+        // counts (the flags and M_BUSY are the host's to see; no interrupt line here).
+        let _ = m.count_cycle(hs_timeout, busy_timeout);
+        // 410B §4.2.4 M_BUSY, HS_MDT, SETEND: the next step starts when the last one is
+        // acknowledged and the host is not awaited.
+        m.start_step();
         if let Some((first, info)) = record.split_first_mut() {
             // 410B §4.2.4 HS_MDT, L/S_MDT, END_MDT, ELEM_MDT → MDT control word bits 5-0.
             *first = (*first & !MDT_SERVICE_BITS)
@@ -242,7 +237,7 @@ impl HostRunChannel {
                 | u16::from(m.end_mdt) << 2
                 | (u16::from(m.elem_mdt) & 7) << 3;
             // NINFO_WRITE info words from the write buffer at WRDATPT (0 past WRDATLAST).
-            let window = write_window(&m);
+            let window = m.pointers.write_window();
             for (slot_word, position) in
                 info.iter_mut().zip(window.positions(m.ninfo_write.count()))
             {
@@ -263,56 +258,6 @@ const MDT_SERVICE_BITS: u16 = ControlWord::MHS
     | ControlWord::LAST_TRANSMISSION
     | ControlWord::DATA_BLOCK_ELEMENT;
 
-/// The handshake rule: a step is acknowledged when AHS equals MHS and BUSY is 0
-/// (sercos-telegrams.md AT status word bits 0-1; 410B §4.2.4 HS_MDT/HS_AT).
-fn acknowledged(m: &ScMaster) -> bool {
-    m.hs_at == m.hs_mdt && !m.busy_at
-}
-
-/// Present and last position of a buffer (410B §4.2.4 words 2-3), offsets from SCPTn.
-#[derive(Debug, Clone, Copy)]
-struct Window {
-    present: u8,
-    last: u8,
-}
-
-impl Window {
-    /// Whether a step of `count` words reaches the last position.
-    fn is_final(self, count: u8) -> bool {
-        u16::from(self.present) + u16::from(count) > u16::from(self.last)
-    }
-
-    /// The positions a step of `count` words covers (`None` past the last one).
-    fn positions(self, count: u8) -> impl Iterator<Item = Option<u8>> {
-        (0..count).map(move |i| {
-            let position = u16::from(self.present) + u16::from(i);
-            u8::try_from(position).ok().filter(|p| *p <= self.last)
-        })
-    }
-}
-
-fn write_window(m: &ScMaster) -> Window {
-    Window {
-        present: m.pointers.wrdatpt,
-        last: m.pointers.wrdatlast,
-    }
-}
-
-fn read_window(m: &ScMaster) -> Window {
-    Window {
-        present: m.pointers.rddatpt,
-        last: m.pointers.rddatlast,
-    }
-}
-
-fn step_is_final(m: &ScMaster) -> bool {
-    if m.ls_mdt {
-        write_window(m).is_final(m.ninfo_write.count())
-    } else {
-        read_window(m).is_final(m.ninfo_read.count())
-    }
-}
-
 /// Buffer positions start after the control words; below they read 0 and take nothing.
 fn buffer_word(slot: &ContainerSlot, ram: &mut SoftRam, position: u8) -> u16 {
     if usize::from(position) < SC_CONTROL_WORDS {
@@ -322,41 +267,17 @@ fn buffer_word(slot: &ContainerSlot, ram: &mut SoftRam, position: u8) -> u16 {
     }
 }
 
-fn store_info(slot: &ContainerSlot, ram: &mut SoftRam, window: Window, count: u8, info: &[u16]) {
+fn store_info(
+    slot: &ContainerSlot,
+    ram: &mut SoftRam,
+    window: ScBufferWindow,
+    count: u8,
+    info: &[u16],
+) {
     for (word, position) in info.iter().zip(window.positions(count)) {
         if let Some(p) = position.filter(|p| usize::from(*p) >= SC_CONTROL_WORDS) {
             slot.write_buffer(ram, p, &[*word]);
         }
-    }
-}
-
-/// ERR_CNT / BUSY_CNT of an unacknowledged step and the timeouts (410B §4.2.4; 0DH).
-fn count_cycle(m: &mut ScMaster, hs_timeout: u8, busy_timeout: u8) {
-    if acknowledged(m) {
-        return;
-    }
-    // 410B §4.2.4 BUSY_CNT: the counter counts handshake (0) or BUSY (1) cycles.
-    let counting_busy = m.busy_at;
-    if m.busy_cnt != counting_busy {
-        m.busy_cnt = counting_busy;
-        m.err_cnt = 0;
-    }
-    let previous = m.err_cnt;
-    m.err_cnt = m.err_cnt.saturating_add(1);
-    let limit = if counting_busy {
-        busy_timeout
-    } else {
-        hs_timeout
-    };
-    if limit != 0 && m.err_cnt == limit && previous != limit {
-        if counting_busy {
-            // 410B §4.2.4 INT_BUSY_TIMEOUT.
-            m.int_busy_timeout = true;
-        } else {
-            // 410B §4.2.4 INT_HS_TIMEOUT.
-            m.int_hs_timeout = true;
-        }
-        m.m_busy = true;
     }
 }
 
@@ -367,7 +288,7 @@ fn take_at(slot: &ContainerSlot, ram: &mut SoftRam, m: &mut ScMaster, record: &[
         m.recerr = true;
         return;
     };
-    let was_acknowledged = acknowledged(m);
+    let was_acknowledged = m.is_acknowledged();
     let command_change = status & StatusWord::COMMAND_CHANGE != 0;
     // 410B §4.2.4 INT_CMD: "Slave has set command modification bit".
     if command_change && !m.cmd_at {
@@ -378,7 +299,7 @@ fn take_at(slot: &ContainerSlot, ram: &mut SoftRam, m: &mut ScMaster, record: &[
     m.busy_at = status & StatusWord::BUSY != 0;
     m.err_at = status & StatusWord::SERVICE_CHANNEL_ERROR != 0;
     m.cmd_at = command_change;
-    let now_acknowledged = acknowledged(m);
+    let now_acknowledged = m.is_acknowledged();
     if was_acknowledged && !now_acknowledged {
         // 410B §4.2.4 INT_SC_ERR: the slave withdrew an acknowledgement.
         m.int_sc_err = true;
@@ -392,23 +313,29 @@ fn take_at(slot: &ContainerSlot, ram: &mut SoftRam, m: &mut ScMaster, record: &[
         // 410B §4.2.4 INT_ERR: the error code is kept at RDDATPT.
         m.int_err = true;
         m.m_busy = true;
-        store_info(slot, ram, read_window(m), m.ninfo_read.count(), info);
+        store_info(
+            slot,
+            ram,
+            m.pointers.read_window(),
+            m.ninfo_read.count(),
+            info,
+        );
         return;
     }
     if m.ls_mdt {
-        let window = write_window(m);
+        let window = m.pointers.write_window();
         let count = m.ninfo_write.count();
-        m.pointers.wrdatpt = window.present.saturating_add(count);
+        m.pointers.wrdatpt = window.advanced(count);
         if window.is_final(count) {
             // 410B §4.2.4 INT_END_WRBUF.
             m.int_end_wrbuf = true;
             m.m_busy = true;
         }
     } else {
-        let window = read_window(m);
+        let window = m.pointers.read_window();
         let count = m.ninfo_read.count();
         store_info(slot, ram, window, count, info);
-        m.pointers.rddatpt = window.present.saturating_add(count);
+        m.pointers.rddatpt = window.advanced(count);
         if window.is_final(count) {
             // 410B §4.2.4 INT_END_RDBUF.
             m.int_end_rdbuf = true;

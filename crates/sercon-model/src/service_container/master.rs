@@ -2,62 +2,24 @@
 //! and takes the AT's (410B §4.2.4, master table).
 
 use sercon_regs::ram::service::ScMaster;
+use sercon_regs::ram::service_rules::ScStepTimeout;
 
-use super::buffer::Window;
+use super::buffer::{copy_in, copy_out};
 use super::container_ram::ContainerRam;
 use super::outcome::{ScInterrupts, ScOutcome};
 use super::record_bits::{AtService, MdtService};
-
-fn write_window(m: &ScMaster) -> Window {
-    Window {
-        present: m.pointers.wrdatpt,
-        last: m.pointers.wrdatlast,
-    }
-}
-
-fn read_window(m: &ScMaster) -> Window {
-    Window {
-        present: m.pointers.rddatpt,
-        last: m.pointers.rddatlast,
-    }
-}
-
-/// The handshake rule: the step is acknowledged when AHS equals MHS and BUSY is 0
-/// (sercos-telegrams.md AT status word bits 0–1; task reading of 410B §4.2.4 HS_MDT/HS_AT).
-fn acknowledged(m: &ScMaster) -> bool {
-    m.hs_at == m.hs_mdt && !m.busy_at
-}
-
-/// Whether the step about to go out (or in progress) is the last of its buffer.
-fn step_is_final(m: &ScMaster) -> bool {
-    if m.ls_mdt {
-        write_window(m).is_final(m.ninfo_write.count())
-    } else {
-        read_window(m).is_final(m.ninfo_read.count())
-    }
-}
 
 /// Fills the MDT record; starts a new step first if the last one is acknowledged and
 /// the microprocessor is not awaited.
 pub(super) fn transmit(ram: &mut ContainerRam<'_>, record: &mut [u16]) -> ScOutcome {
     let before = ram.controls();
     let mut m = ScMaster::from_words(before);
-    let mut out = ScOutcome::default();
-
-    // 410B §4.2.4 M_BUSY: "Service container waits for interaction of microprocessor";
-    // while it is set no new step starts and the present step is repeated.
-    if acknowledged(&m) && !m.m_busy {
-        // 410B §4.2.4 HS_MDT: handshake bit in MDT, toggled for every new step
-        // (sercos-telegrams.md MDT control word bit 0: "A toggle bit").
-        m.hs_mdt = !m.hs_mdt;
-        // 410B §4.2.4 SETEND: "END_MDT is to be set" — on the step that reaches the end of
-        // the buffer in use (spec-notes "Service containers").
-        m.end_mdt = m.setend && step_is_final(&m);
-        // ERR_CNT counts the cycles of the present step (spec-notes).
-        m.err_cnt = 0;
-        m.busy_cnt = false;
-        out.handshake = true;
-    }
+    // 410B §4.2.4 M_BUSY, HS_MDT, SETEND: a new step starts when the last one is
+    // acknowledged and the microprocessor is not awaited (sercon-regs `start_step`).
+    let mut out = ScOutcome {
+        handshake: m.start_step(),
+        ..ScOutcome::default()
+    };
 
     if let Some((first, info)) = record.split_first_mut() {
         // 410B §4.2.4 HS_MDT, L/S_MDT, END_MDT, ELEM_MDT go to MDT control word bits 5-0.
@@ -70,7 +32,7 @@ pub(super) fn transmit(ram: &mut ContainerRam<'_>, record: &mut [u16]) -> ScOutc
         .put_into(*first);
         // 410B §4.2.4 NINFO_WRITE, WRDATPT/WRDATLAST: the info words come from the
         // write buffer at its present position.
-        out.info_words = write_window(&m).copy_out(ram, m.ninfo_write.count(), info);
+        out.info_words = copy_out(m.pointers.write_window(), ram, m.ninfo_write.count(), info);
     }
 
     ram.store_controls(before, m.to_words());
@@ -108,7 +70,7 @@ fn take_at(
     info: &[u16],
     out: &mut ScOutcome,
 ) {
-    let was_acknowledged = acknowledged(m);
+    let was_acknowledged = m.is_acknowledged();
 
     // 410B §4.2.4 INT_CMD: "Slave has set command modification bit" (a 0 → 1 change).
     if at.command_change && !m.cmd_at {
@@ -121,7 +83,7 @@ fn take_at(
     m.err_at = at.error;
     m.cmd_at = at.command_change;
 
-    let now_acknowledged = acknowledged(m);
+    let now_acknowledged = m.is_acknowledged();
     if was_acknowledged && !now_acknowledged {
         // 410B §4.2.4 INT_SC_ERR: protocol error — the slave withdrew an acknowledgement
         // although MHS did not change (spec-notes).
@@ -142,12 +104,12 @@ fn take_at(
         m.int_err = true;
         m.m_busy = true;
         out.raise(ScInterrupts::INT_ERR);
-        out.info_words = read_window(m).copy_in(ram, m.ninfo_read.count(), info);
+        out.info_words = copy_in(m.pointers.read_window(), ram, m.ninfo_read.count(), info);
         return;
     }
     if m.ls_mdt {
         // Write: the words at WRDATPT have arrived; move on by NINFO_WRITE.
-        let window = write_window(m);
+        let window = m.pointers.write_window();
         let count = m.ninfo_write.count();
         m.pointers.wrdatpt = window.advanced(count);
         if window.is_final(count) {
@@ -158,9 +120,9 @@ fn take_at(
         }
     } else {
         // Read: NINFO_READ info words of the AT go to the read buffer at RDDATPT.
-        let window = read_window(m);
+        let window = m.pointers.read_window();
         let count = m.ninfo_read.count();
-        out.info_words = window.copy_in(ram, count, info);
+        out.info_words = copy_in(window, ram, count, info);
         m.pointers.rddatpt = window.advanced(count);
         if window.is_final(count) {
             // 410B §4.2.4 INT_END_RDBUF: end of read buffer is reached.
@@ -178,34 +140,12 @@ pub(super) fn cycle(ram: &mut ContainerRam<'_>, hs_timeout: u8, busy_timeout: u8
     let mut m = ScMaster::from_words(before);
     let mut out = ScOutcome::default();
 
-    if !acknowledged(&m) {
-        // 410B §4.2.4 BUSY_CNT: the error counter counts differences of handshake (0) or
-        // BUSY cycles (1); a change of kind restarts it (spec-notes).
-        let counting_busy = m.busy_at;
-        if m.busy_cnt != counting_busy {
-            m.busy_cnt = counting_busy;
-            m.err_cnt = 0;
-        }
-        // ERR_CNT stops at 255 (spec-notes).
-        let previous = m.err_cnt;
-        m.err_cnt = m.err_cnt.saturating_add(1);
-        // 410B §4.1 0DH HS_TIMEOUT / BUSY_TIMEOUT, in cycles; 0 = no timeout (spec-notes).
-        let (limit, bit) = if counting_busy {
-            (busy_timeout, ScInterrupts::INT_BUSY_TIMEOUT)
-        } else {
-            (hs_timeout, ScInterrupts::INT_HS_TIMEOUT)
-        };
-        if limit != 0 && m.err_cnt == limit && previous != limit {
-            if counting_busy {
-                // 410B §4.2.4 INT_BUSY_TIMEOUT.
-                m.int_busy_timeout = true;
-            } else {
-                // 410B §4.2.4 INT_HS_TIMEOUT.
-                m.int_hs_timeout = true;
-            }
-            m.m_busy = true;
-            out.raise(bit);
-        }
+    // 410B §4.2.4 ERR_CNT/BUSY_CNT and 410B §4.1 0DH HS_TIMEOUT/BUSY_TIMEOUT: counted by
+    // sercon-regs `count_cycle`, which also sets the flag and M_BUSY.
+    match m.count_cycle(hs_timeout, busy_timeout) {
+        Some(ScStepTimeout::Handshake) => out.raise(ScInterrupts::INT_HS_TIMEOUT),
+        Some(ScStepTimeout::Busy) => out.raise(ScInterrupts::INT_BUSY_TIMEOUT),
+        None => {}
     }
 
     ram.store_controls(before, m.to_words());

@@ -3,24 +3,10 @@
 
 use sercon_regs::ram::service::ScSlave;
 
-use super::buffer::Window;
+use super::buffer::{copy_in, copy_out};
 use super::container_ram::ContainerRam;
 use super::outcome::{ScInterrupts, ScOutcome};
 use super::record_bits::{AtService, MdtService};
-
-fn write_window(s: &ScSlave) -> Window {
-    Window {
-        present: s.pointers.wrdatpt,
-        last: s.pointers.wrdatlast,
-    }
-}
-
-fn read_window(s: &ScSlave) -> Window {
-    Window {
-        present: s.pointers.rddatpt,
-        last: s.pointers.rddatlast,
-    }
-}
 
 /// Fills the AT record: HS_AT, BUSY_AT, ERR_AT, CMD_AT and NINFO_WRITE words of the
 /// write buffer. The container's words are not changed.
@@ -39,7 +25,7 @@ pub(super) fn transmit(ram: &mut ContainerRam<'_>, record: &mut [u16]) -> ScOutc
         .put_into(*first);
         // 410B §4.2.4 NINFO_WRITE, WRDATPT/WRDATLAST: the write buffer holds what the
         // slave sends (spec-notes: write buffer = transmitted words in both modes).
-        out.info_words = write_window(&s).copy_out(ram, s.ninfo_write.count(), info);
+        out.info_words = copy_out(s.pointers.write_window(), ram, s.ninfo_write.count(), info);
     }
     out.ram_accesses = ram.accesses();
     out
@@ -115,9 +101,9 @@ fn take_mdt(
 
     if s.ls {
         // Write by the master: NINFO_READ info words go to the read buffer at RDDATPT.
-        let window = read_window(s);
+        let window = s.pointers.read_window();
         let count = s.ninfo_read.count();
-        out.info_words = window.copy_in(ram, count, info);
+        out.info_words = copy_in(window, ram, count, info);
         s.pointers.rddatpt = window.advanced(count);
         // 410B §4.2.4 HS_AT: the step is answered (AHS = MHS).
         s.hs_at = s.hs_mdt;
@@ -139,9 +125,9 @@ fn take_mdt(
         // Read by the master. A fresh step of the same transmission means the master has
         // taken the words offered so far: WRDATPT moves on by NINFO_WRITE.
         if toggled {
-            s.pointers.wrdatpt = write_window(s).advanced(s.ninfo_write.count());
+            s.pointers.wrdatpt = s.pointers.write_window().advanced(s.ninfo_write.count());
         }
-        if write_window(s).is_exhausted() {
+        if s.pointers.write_window().is_exhausted() {
             // 410B §4.2.4 INT_END_WRBUF: end of write buffer is reached; BUSY_AT holds
             // until the microprocessor refills it (spec-notes).
             s.int_end_wrbuf = true;

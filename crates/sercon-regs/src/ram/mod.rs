@@ -8,6 +8,7 @@
 pub mod container;
 pub mod header;
 pub mod service;
+pub mod service_rules;
 
 /// Word 0: COMPT0, start of transmission block 0 (410B §4.2).
 pub const COMPT0: u16 = 0;
