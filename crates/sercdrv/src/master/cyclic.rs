@@ -2,7 +2,7 @@
 //! out of its AT, by IDN, through the single or double buffer (410B §4.2.1 DBUF, VAL) or the
 //! FIFOs at 27H (410B §4.2.1 DMA; §2 DMAREQR/DMAREQT; spec-notes "Master DMA layout").
 
-use sercon_regs::ram::header::{Buffering, Header};
+use sercon_regs::ram::header::{Buffering, RxHeader, TxEnable, TxHeader};
 use sercon_regs::{Ctrl3, Fifo, ProgerrFl, SerconBus, SerconBusExt, Variant};
 use sercos_wire::address::DriveAddress;
 use sercos_wire::idn::Idn;
@@ -56,6 +56,9 @@ pub(crate) struct DriveCyclic {
     pub received: Vec<u16>,
     /// Whether the last AT was received without error.
     pub last_ok: bool,
+    /// What buffers 0 and 1 of the MDT record hold as this image wrote them (empty:
+    /// unknown, written in full next time).
+    pub written: [Vec<u16>; 2],
 }
 
 /// The cyclic data of every drive.
@@ -73,6 +76,10 @@ pub(crate) struct CyclicImage {
     mdt_order: Vec<usize>,
     /// Indices of `drives` by address.
     index: DriveIndex,
+    /// Word 0 of the MDT's transmit header as last read or written (VAL is the driver's).
+    mdt_word0: Option<u16>,
+    /// An AT's words while they are read (swapped into `received` when good).
+    scratch: Vec<u16>,
 }
 
 /// 410B §4.2.1 receive header word 0 bit 13, RERR: "errored or not received".
@@ -104,6 +111,8 @@ impl CyclicImage {
             at_order,
             mdt_order,
             index,
+            mdt_word0: None,
+            scratch: Vec::new(),
         }
     }
 
@@ -120,73 +129,155 @@ impl CyclicImage {
     /// chip does not send, then VAL is turned to it (410B §4.2.1: for transmit headers VAL
     /// "Set by processor": data in buffer 0 (VAL = 0) or buffer 1 (VAL = 1) are valid; 816
     /// §2.10.1.2: VAL is read again at the start of the transmit telegram).
-    pub fn write_commands<B: SerconBus + ?Sized>(&self, bus: &mut B) {
+    ///
+    /// Only words that differ from what the buffer holds are written: the chip never writes
+    /// a transmit container's data words (it puts the service info into the telegram, not
+    /// the RAM: ERRATA "service info in a container"), so a buffer holds what this image
+    /// wrote last. When the buffer the chip sends already holds every record, nothing is
+    /// written and VAL stays (spec-notes "Master accesses per cycle").
+    pub fn write_commands<B: SerconBus + ?Sized>(&mut self, bus: &mut B) {
         if self.buffering == Buffering::Dma {
             self.write_fifo(bus);
             return;
         }
-        let header = match bus.read_header(self.variant, self.mdt_header) {
-            Ok(Header::Transmit(h)) => h,
-            _ => return,
+        let Some(word0) = self.mdt_word0(bus) else {
+            return;
         };
-        let target = match self.buffering {
-            Buffering::Double => u8::from(!header.val),
+        let sent = match self.buffering {
+            Buffering::Double => u8::from(word0 & VAL != 0),
             _ => 0,
         };
-        for d in &self.drives {
-            if let Some(start) = buffer_start(&d.command, target) {
-                bus.write_ram_words(start, &d.record);
-            }
+        if self.drives.iter().all(|d| d.holds_record(sent)) {
+            return;
+        }
+        let target = match self.buffering {
+            Buffering::Double => 1 - sent,
+            _ => 0,
+        };
+        for d in &mut self.drives {
+            d.write_record(bus, target);
         }
         if self.buffering == Buffering::Double {
-            let mut h = header;
-            h.val = target == 1;
             // Only word 0 carries VAL; the other words are the driver's own.
-            let words = h.to_words(self.variant);
-            bus.write_ram(self.mdt_header, words[0]);
+            let word0 = if target == 1 {
+                word0 | VAL
+            } else {
+                word0 & !VAL
+            };
+            bus.write_ram(self.mdt_header, word0);
+            self.keep_mdt_word0(word0);
         }
     }
 
-    /// Reads every drive's AT. Double buffer: VAL of the receive header names the buffer
-    /// the chip finished last (410B §4.2.1: "data in buffer 0 (VAL = 0) or buffer 1
-    /// (VAL = 1) is valid. Modified by controller at beginning and end of receive
-    /// telegrams"). VAL is read again afterwards and the read repeated if it changed, so a
-    /// value is never torn between two telegrams. Returns how many ATs came without error.
+    /// Word 0 of the MDT's transmit header: read once, then the one this image wrote (410B
+    /// §4.2.1 transmit header: VAL is "Set by processor"; the controller writes word 0 back
+    /// only for EN = 1, "sets EN to 0 after the transmit telegram has been started", so
+    /// then it is read every time). `None` if the word is no transmit header.
+    fn mdt_word0<B: SerconBus + ?Sized>(&mut self, bus: &mut B) -> Option<u16> {
+        if let Some(word0) = self.mdt_word0 {
+            return Some(word0);
+        }
+        let word0 = bus.read_ram(self.mdt_header);
+        TxHeader::from_words(self.variant, [word0, 0, 0, 0]).ok()?;
+        self.keep_mdt_word0(word0);
+        Some(word0)
+    }
+
+    fn keep_mdt_word0(&mut self, word0: u16) {
+        let once = TxHeader::from_words(self.variant, [word0, 0, 0, 0])
+            .is_ok_and(|h| h.en == TxEnable::Once);
+        self.mdt_word0 = (!once).then_some(word0);
+    }
+
+    /// Reads every drive's AT: word 0 of its receive header (RERR, VAL, DMA/DBUF), then,
+    /// if the AT came without error, its words once from the buffer VAL names. Returns how
+    /// many ATs came without error.
+    ///
+    /// 410B §4.2.1 receive header VAL, double buffer: "data in buffer 0 (VAL = 0) or buffer
+    /// 1 (VAL = 1) is valid. Modified by controller at beginning and end of receive
+    /// telegrams": the controller fills the other buffer and turns VAL to it at the end, so
+    /// the buffer VAL named is written again only by the telegram after the next one, a
+    /// cycle later; it is read once, without a second look at VAL. Single buffer: the one
+    /// buffer is written by the next AT itself, which clears VAL at its beginning, so word 0
+    /// is read again after the words and the read repeated if VAL changed (spec-notes
+    /// "Master accesses per cycle").
     pub fn read_feedback<B: SerconBus + ?Sized>(&mut self, bus: &mut B) -> usize {
         if self.buffering == Buffering::Dma {
             return self.read_fifo(bus);
         }
         let variant = self.variant;
         let mut ok = 0;
+        let scratch = &mut self.scratch;
         for d in &mut self.drives {
-            let mut words = Vec::new();
             let mut good = false;
+            let mut word0 = bus.read_ram(d.at_header);
             for _ in 0..3 {
-                let Ok(Header::Receive(h)) = bus.read_header(variant, d.at_header) else {
+                // Word 0 alone: its fields do not depend on the other words.
+                let Ok(h) = RxHeader::from_words(variant, [word0, 0, 0, 0, 0]) else {
+                    good = false;
                     break;
                 };
-                // 410B §4.2.1 RERR: "errored or not received".
+                // 410B §4.2.1 RERR: "errored or not received": nothing to read.
                 good = !h.rerr;
-                let buffer = match h.buffering() {
-                    Buffering::Double => u8::from(h.val),
-                    _ => 0,
-                };
-                let Some(start) = buffer_start(&d.feedback, buffer) else {
-                    break;
-                };
-                words = read_words(bus, start, d.feedback.len);
-                let again = bus.read_ram(d.at_header);
-                if again & VAL == u16::from(h.val) * VAL {
+                if !good {
                     break;
                 }
+                let (buffer, check) = match h.buffering() {
+                    Buffering::Double => (u8::from(h.val), false),
+                    _ => (0, true),
+                };
+                let Some(start) = buffer_start(&d.feedback, buffer) else {
+                    good = false;
+                    break;
+                };
+                read_words(bus, start, d.feedback.len, scratch);
+                if !check {
+                    break;
+                }
+                let again = bus.read_ram(d.at_header);
+                if again & VAL == word0 & VAL {
+                    break;
+                }
+                word0 = again;
             }
             d.last_ok = good;
             if good {
                 ok += 1;
-                d.received = words;
+                std::mem::swap(&mut d.received, scratch);
             }
         }
         ok
+    }
+}
+
+impl DriveCyclic {
+    /// Whether buffer `buffer` of the MDT record holds [`DriveCyclic::record`] as written.
+    fn holds_record(&self, buffer: u8) -> bool {
+        self.written
+            .get(usize::from(buffer))
+            .is_some_and(|w| *w == self.record)
+    }
+
+    /// Writes the record into buffer `buffer`: the words that differ from what the buffer
+    /// holds, or all of them if that is not known.
+    fn write_record<B: SerconBus + ?Sized>(&mut self, bus: &mut B, buffer: u8) {
+        let Some(start) = buffer_start(&self.command, buffer) else {
+            return;
+        };
+        let Some(held) = self.written.get_mut(usize::from(buffer)) else {
+            return;
+        };
+        if held.len() == self.record.len() {
+            for ((a, old), new) in (0u16..).zip(held.iter_mut()).zip(&self.record) {
+                if old != new {
+                    bus.write_ram(start.wrapping_add(a), *new);
+                    *old = *new;
+                }
+            }
+        } else {
+            bus.write_ram_words(start, &self.record);
+            held.clone_from(&self.record);
+        }
     }
 }
 
@@ -271,10 +362,10 @@ fn buffer_start(place: &ContainerPlace, buffer: u8) -> Option<u16> {
     }
 }
 
-fn read_words<B: SerconBus + ?Sized>(bus: &mut B, start: u16, len: u16) -> Vec<u16> {
-    (0..len)
-        .map(|i| bus.read_ram(start.wrapping_add(i)))
-        .collect()
+/// `len` words from `start` into `out` (its old contents dropped).
+fn read_words<B: SerconBus + ?Sized>(bus: &mut B, start: u16, len: u16, out: &mut Vec<u16>) {
+    out.clear();
+    out.extend((0..len).map(|i| bus.read_ram(start.wrapping_add(i))));
 }
 
 /// The value of `item` in `record` (words low first), if the record holds it.

@@ -646,6 +646,10 @@ impl Master {
         }
         let mut sc = ServiceChannelMaster::with_router(containers, MasterRouter::default());
         sc.set_timeout(Some(self.cfg.service_timeout));
+        // The master polls procedure commands through their status (sercos-facts.md
+        // "Procedure commands"), never INT_CMD: a container it has nothing running in, or
+        // whose transfer does not wait for it (410B §4.2.4 M_BUSY), costs no bus access.
+        sc.set_watch_commands(false);
         Ok(sc)
     }
 
@@ -1320,11 +1324,10 @@ impl Master {
                 sc.router_mut().set_cyclic(bus, places);
             }
         }
-        if let Some(image) = self.cyclic.as_ref() {
+        // The records go into the buffer VAL turns to; the other one is written in full the
+        // first time the chip no longer sends it (410B §4.2.1 transmit VAL).
+        if let Some(image) = self.cyclic.as_mut() {
             image.write_commands(bus);
-            if image.buffering == Buffering::Double {
-                image.write_commands(bus);
-            }
         }
         self.layout = Some(full);
         // 410B §4.1 0CH.2 COMBLK0: block 1 for the phase in PHAS0, from the next cycle on.
@@ -1385,6 +1388,7 @@ impl Master {
                 record: vec![0; usize::from(ram.command.len)],
                 received: Vec::new(),
                 last_ok: false,
+                written: [Vec::new(), Vec::new()],
             });
         }
         Ok(CyclicImage::new(
@@ -1540,6 +1544,10 @@ impl Master {
 impl HostProgram for Master {
     fn wake(&mut self, bus: &mut dyn SerconBus, now: Instant, why: Wake) -> Option<Instant> {
         match why {
+            // 410B §4.1 6H/3H: INT0 carries only the master's flags, 1-active (ENINT0 with
+            // POLINT0 = 0, ERRATA 3H.1/3H.2): INT0 low means none is set, nothing to read.
+            Wake::Interrupt { int0: false, .. } => {}
+            // serve_flags reads 4H until none of the master's flags is left.
             Wake::Interrupt { .. } => self.serve_flags(bus, now),
             Wake::Deadline => {
                 self.serve_flags(bus, now);
@@ -1570,7 +1578,11 @@ impl HostProgram for Master {
                 }
             }
         }
-        self.serve_flags(bus, now);
+        if !matches!(why, Wake::Interrupt { .. }) {
+            // A flag raised while the start or the deadline's work ran gives no new edge on
+            // INT0 if INT0 was high already (410B §4.1 3H.0 INTFL0).
+            self.serve_flags(bus, now);
+        }
         let chip = self
             .sc
             .as_ref()

@@ -153,6 +153,31 @@ impl ContainerSlot {
         words
     }
 
+    /// Control word `index` (0-4, 410B §4.2.4).
+    pub(super) fn control_word<B: SerconBus + ?Sized>(&self, bus: &mut B, index: u8) -> u16 {
+        bus.read_ram(self.word_address(index))
+    }
+
+    /// Writes control word `index` (0-4, 410B §4.2.4) alone.
+    pub(super) fn write_control_word<B: SerconBus + ?Sized>(
+        &self,
+        bus: &mut B,
+        index: u8,
+        word: u16,
+    ) {
+        bus.write_ram(self.word_address(index), word);
+    }
+
+    /// The control words in master mode, word 0 already read as `word0` (words 1-4 read
+    /// now).
+    pub(super) fn master_after<B: SerconBus + ?Sized>(&self, bus: &mut B, word0: u16) -> ScMaster {
+        let mut words = [word0, 0, 0, 0, 0];
+        for (offset, word) in (1u8..).zip(words.iter_mut().skip(1)) {
+            *word = bus.read_ram(self.word_address(offset));
+        }
+        ScMaster::from_words(words)
+    }
+
     /// The control words in master mode.
     pub(super) fn master<B: SerconBus + ?Sized>(&self, bus: &mut B) -> ScMaster {
         ScMaster::from_words(self.controls(bus))

@@ -83,6 +83,9 @@ pub struct ServiceChannelMaster<R: ContainerRouter = FixedRouting> {
     timeout: Option<Duration>,
     router: R,
     command_changes: Vec<DriveAddress>,
+    /// Whether [`ServiceChannelMaster::poll`] reads INT_CMD of containers the host does
+    /// not otherwise need to read ([`ServiceChannelMaster::set_watch_commands`]).
+    watch_commands: bool,
 }
 
 impl ServiceChannelMaster<FixedRouting> {
@@ -121,6 +124,7 @@ impl<R: ContainerRouter> ServiceChannelMaster<R> {
             timeout: None,
             router,
             command_changes: Vec::new(),
+            watch_commands: true,
         }
     }
 
@@ -128,6 +132,16 @@ impl<R: ContainerRouter> ServiceChannelMaster<R> {
     /// leaves timing to the chip's HS_TIMEOUT / BUSY_TIMEOUT.
     pub fn set_timeout(&mut self, timeout: Option<Duration>) {
         self.timeout = timeout;
+    }
+
+    /// Whether [`ServiceChannelMaster::poll`] reads INT_CMD (410B §4.2.4, word 4) of the
+    /// containers without a transfer and of those whose transfer does not wait for the host
+    /// (on by default). Off, those containers cost no bus access per poll: a command change
+    /// is then reported ([`ServiceChannelMaster::take_command_changes`]) only when its
+    /// container is read for a transfer (started, or waiting with M_BUSY), so only for a
+    /// user who polls procedure commands itself, as [`crate::master::Master`] does.
+    pub fn set_watch_commands(&mut self, watch: bool) {
+        self.watch_commands = watch;
     }
 
     /// The router.
@@ -236,7 +250,14 @@ impl<R: ContainerRouter> ServiceChannelMaster<R> {
     pub fn poll<B: SerconBus + ?Sized>(&mut self, bus: &mut B, now: Instant) -> Vec<Completion> {
         let mut done = Vec::new();
         for container in &mut self.containers {
-            service_container(container, bus, now, &mut self.command_changes, &mut done);
+            service_container(
+                container,
+                bus,
+                now,
+                self.watch_commands,
+                &mut self.command_changes,
+                &mut done,
+            );
         }
         self.schedule(bus, now, &mut done);
         done
@@ -360,34 +381,69 @@ fn start<B: SerconBus + ?Sized>(
     });
 }
 
-/// One container's turn in [`ServiceChannelMaster::poll`].
+/// Word 4 of a master container with INT_CMD (4.12, 410B §4.2.4) cleared, if it was set.
+fn without_int_cmd(word4: u16) -> Option<u16> {
+    let mut m = ScMaster::from_words([0, 0, 0, 0, word4]);
+    if !m.int_cmd {
+        return None;
+    }
+    m.int_cmd = false;
+    let [_, _, _, _, cleared] = m.to_words();
+    Some(cleared)
+}
+
+/// Looks at INT_CMD alone (word 4, 410B §4.2.4): notes a command change of the drive the
+/// container serves and clears the bit.
+fn watch_int_cmd<B: SerconBus + ?Sized>(
+    container: &MasterContainer,
+    bus: &mut B,
+    changes: &mut Vec<DriveAddress>,
+) {
+    let slot = container.slot;
+    let word4 = slot.control_word(bus, 4);
+    if let Some(cleared) = without_int_cmd(word4) {
+        if let Some(drive) = container.routed {
+            changes.push(drive);
+        }
+        slot.write_control_word(bus, 4, cleared);
+    }
+}
+
+/// One container's turn in [`ServiceChannelMaster::poll`]: what the host must read of it
+/// and no more (spec-notes "Master accesses per cycle").
+///
+/// * Idle (no transfer): nothing happens in it but INT_CMD (410B §4.2.4: the chip raises
+///   it when the slave sets the command modification bit); word 4 is read for it when
+///   `watch_commands`, else the container is not read at all.
+/// * Running: word 0 tells whether the chip waits for the host (M_BUSY, 410B §4.2.4:
+///   "Service container waits for interaction of microprocessor"); only then are words
+///   1-4 read. While it does not, word 4 is read for INT_CMD when `watch_commands`.
 fn service_container<B: SerconBus + ?Sized>(
     container: &mut MasterContainer,
     bus: &mut B,
     now: Instant,
+    watch_commands: bool,
     changes: &mut Vec<DriveAddress>,
     done: &mut Vec<Completion>,
 ) {
     let slot = container.slot;
-    let m = slot.master(bus);
-    note_command_change(container, &m, changes);
     let Some(mut active) = container.active.take() else {
-        if m.int_cmd {
-            // Idle: only the INT_CMD bit to clear.
-            let mut cleared = m;
-            cleared.int_cmd = false;
-            slot.store(bus, cleared.to_words(), true);
+        if watch_commands {
+            watch_int_cmd(container, bus, changes);
         }
         return;
     };
+    let word0 = slot.control_word(bus, 0);
     // 410B §4.2.4 M_BUSY: the chip waits for the microprocessor after an interrupt.
-    let progress = if m.m_busy {
+    let progress = if ScMaster::from_words([word0, 0, 0, 0, 0]).m_busy {
+        let mut m = slot.master_after(bus, word0);
+        note_command_change(container, &m, changes);
+        // Noted once: the words the transfer writes back carry it cleared.
+        m.int_cmd = false;
         active.transfer.on_event(&slot, bus, m)
     } else {
-        if m.int_cmd {
-            let mut cleared = m;
-            cleared.int_cmd = false;
-            slot.store(bus, cleared.to_words(), true);
+        if watch_commands {
+            watch_int_cmd(container, bus, changes);
         }
         Progress::Running
     };
