@@ -3,6 +3,7 @@
 //! §4.2.2), with the host-run service channel in phases 3-4 (410B §4.2.4 master table run
 //! by the host; spec-notes "Master DMA layout").
 
+mod common;
 mod master_support;
 
 use master_support::*;
@@ -272,7 +273,6 @@ fn the_410b_holds_126_drives_with_the_dma_layout() {
 #[test]
 fn the_254_drive_layout_builds_and_fits_the_816() {
     use sercdrv::ram_layout::{PhaseGroup, RamLayoutRequest, Role, build_with};
-    use sercdrv::timing::{DriveParameters, TimingRequest, TimingRules, plan_cycle};
     use sercos_wire::time::BitRate;
     let m = Master::new(MasterConfig::new(
         Variant::Sercon816,
@@ -282,25 +282,8 @@ fn the_254_drive_layout_builds_and_fits_the_816() {
     ))
     .expect("fits");
     assert_eq!(m.service_buffer_words(), 24);
-    let timing = plan_cycle(&TimingRequest {
-        bit_rate: BitRate::Mbit16,
-        cycle_time_us: 5000,
-        nc_cycle_time_us: 5000,
-        drives: (1..=254)
-            .map(|address| DriveParameters {
-                address,
-                t1min_us: 20,
-                t_atmt_us: 20,
-                t5_us: 50,
-                t_mtsy_us: 10,
-                t_mtsg_us: 10,
-                at_data_bytes: 8,
-                mdt_data_bytes: 4,
-            })
-            .collect(),
-        rules: TimingRules::default(),
-    })
-    .expect("254 drives fit 5 ms at 16 Mbit/s");
+    let timing = common::ring_timing::plan_alike(BitRate::Mbit16, 5000, 254, 8, 4)
+        .expect("254 drives fit 5 ms at 16 Mbit/s");
     let mut req = RamLayoutRequest::new(Variant::Sercon816, Role::Master, &timing);
     req.buffering = Buffering::Dma;
     req.service_buffer_words = 24;

@@ -2,11 +2,14 @@
 //! 8, 32 drives on both variants, the 254-drive ring on the 816, slaves, buffering, refusals,
 //! and a property test that structures never overlap and every chain ends in an end marker.
 
+mod common;
+
+use common::ring_timing::{plan_alike, request};
 use proptest::prelude::*;
 use sercdrv::ram_layout::{
     PhaseGroup, RamLayout, RamLayoutError, RamLayoutRequest, RegionKind, Role, build,
 };
-use sercdrv::timing::{CycleTiming, DriveParameters, TimingRequest, TimingRules, plan_cycle};
+use sercdrv::timing::{CycleTiming, DriveParameters, plan_cycle};
 use sercon_regs::Variant;
 use sercon_regs::ram::container::{ContainerControl, RxContainer};
 use sercon_regs::ram::header::{Buffering, Header, HeaderKind};
@@ -14,26 +17,7 @@ use sercon_regs::ram::{COMPT0, COMPT1, scpt};
 use sercos_wire::time::BitRate;
 
 fn plan(rate: BitRate, cycle: u32, n: u8, at_data: u16, mdt_data: u16) -> CycleTiming {
-    let drives = (1..=n)
-        .map(|address| DriveParameters {
-            address,
-            t1min_us: 20,
-            t_atmt_us: 20,
-            t5_us: 50,
-            t_mtsy_us: 10,
-            t_mtsg_us: 10,
-            at_data_bytes: at_data,
-            mdt_data_bytes: mdt_data,
-        })
-        .collect();
-    plan_cycle(&TimingRequest {
-        bit_rate: rate,
-        cycle_time_us: cycle,
-        nc_cycle_time_us: cycle,
-        drives,
-        rules: TimingRules::default(),
-    })
-    .expect("timing fits")
+    plan_alike(rate, cycle, n, at_data, mdt_data).expect("timing fits")
 }
 
 /// The RAM after the layout's writes.
@@ -372,13 +356,7 @@ proptest! {
                 mdt_data_bytes: mdt_words * 2,
             })
             .collect();
-        let Ok(timing) = plan_cycle(&TimingRequest {
-            bit_rate: BitRate::Mbit4,
-            cycle_time_us: 65_000,
-            nc_cycle_time_us: 65_000,
-            drives,
-            rules: TimingRules::default(),
-        }) else {
+        let Ok(timing) = plan_cycle(&request(BitRate::Mbit4, 65_000, drives)) else {
             return Ok(());
         };
         let role = if slave { Role::Slave { address: n } } else { Role::Master };

@@ -1,35 +1,15 @@
 //! Spec tests of the timing planner (`sercdrv::timing`): the captures' ring, large rings,
 //! and refusals with their reasons.
 
+mod common;
+
+use common::ring_timing::{drive, request};
 use sercdrv::timing::{
     DriveParameters, MdtPlacement, TimingError, TimingRequest, TimingRules, plan_cycle,
     worst_case_line_bits, worst_case_micros,
 };
 use sercos_wire::line::frame_bit_len;
 use sercos_wire::time::BitRate;
-
-fn drive(address: u8, at_data: u16, mdt_data: u16) -> DriveParameters {
-    DriveParameters {
-        address,
-        t1min_us: 20,
-        t_atmt_us: 20,
-        t5_us: 50,
-        t_mtsy_us: 10,
-        t_mtsg_us: 10,
-        at_data_bytes: at_data,
-        mdt_data_bytes: mdt_data,
-    }
-}
-
-fn request(rate: BitRate, cycle: u32, drives: Vec<DriveParameters>) -> TimingRequest {
-    TimingRequest {
-        bit_rate: rate,
-        cycle_time_us: cycle,
-        nc_cycle_time_us: cycle,
-        drives,
-        rules: TimingRules::default(),
-    }
-}
 
 /// The captures' ring (tc2000r-phaseup.nrzi): four drives, 2 Mbit/s, 2 ms, telegram type 7
 /// with AT = [S-0-0011 (2 bytes), S-0-0051 (4), P-0-0019 (2)] and MDT = [S-0-0036 (4)].

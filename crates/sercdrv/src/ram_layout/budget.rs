@@ -116,37 +116,28 @@ impl MasterBudget {
     }
 }
 
+// The drive and timing set-ups the integration tests share (`tests/common`), for the tests
+// below; the file names the timing module `timing`.
+#[cfg(test)]
+use crate::timing;
+#[cfg(test)]
+#[path = "../../tests/common/ring_timing.rs"]
+#[allow(dead_code)]
+mod ring_timing;
+
 #[cfg(test)]
 mod tests {
+    use super::ring_timing::plan_alike;
     use super::*;
     use crate::ram_layout::{PhaseGroup, RamLayoutError, RamLayoutRequest, Role, build_with};
-    use crate::timing::{DriveParameters, TimingRequest, TimingRules, plan_cycle};
     use proptest::prelude::*;
     use sercos_wire::time::BitRate;
 
     /// What the builder places for a master ring of `n` identical drives: words used, or
     /// the words it would need when it refuses.
     fn built_words(b: &MasterBudget, n: u8) -> Option<u32> {
-        let drives = (1..=n)
-            .map(|address| DriveParameters {
-                address,
-                t1min_us: 20,
-                t_atmt_us: 20,
-                t5_us: 50,
-                t_mtsy_us: 10,
-                t_mtsg_us: 10,
-                at_data_bytes: b.at_data_bytes,
-                mdt_data_bytes: b.mdt_data_bytes,
-            })
-            .collect();
-        let timing = plan_cycle(&TimingRequest {
-            bit_rate: BitRate::Mbit4,
-            cycle_time_us: 65_000,
-            nc_cycle_time_us: 65_000,
-            drives,
-            rules: TimingRules::default(),
-        })
-        .ok()?;
+        let timing =
+            plan_alike(BitRate::Mbit4, 65_000, n, b.at_data_bytes, b.mdt_data_bytes).ok()?;
         let mut req = RamLayoutRequest::new(b.variant, Role::Master, &timing);
         req.buffering = b.buffering;
         req.service_buffer_words = b.service_buffer_words;
