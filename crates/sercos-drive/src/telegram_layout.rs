@@ -87,31 +87,19 @@ const MDT_LIST: Idn = Idn::from_raw(24);
 const AT_CONFIGURABLE: Idn = Idn::from_raw(187);
 const MDT_CONFIGURABLE: Idn = Idn::from_raw(188);
 
-/// The IDNs of standard telegram types 0–6 (module table), MDT then AT.
-pub fn standard_telegram(telegram_type: u8) -> Option<(&'static [u16], &'static [u16])> {
-    Some(match telegram_type {
-        0 => (&[], &[]),
-        1 => (&[80], &[]),
-        2 => (&[36], &[40]),
-        3 => (&[36], &[51]),
-        4 => (&[47], &[51]),
-        5 => (&[47, 36], &[51, 40]),
-        6 => (&[36], &[]),
-        _ => return None,
-    })
-}
-
 /// Computes the cyclic layout from the database's S-0-0015 (and S-0-0016, S-0-0024 for
 /// type 7).
 pub fn layout(database: &IdnDatabase) -> Result<CyclicLayout, LayoutError> {
     let telegram_type = database
         .number(TELEGRAM_TYPE)
         .ok_or(LayoutError::ConfigurationMissing(TELEGRAM_TYPE))?;
-    let (mdt, at) = match u8::try_from(telegram_type).ok().and_then(standard_telegram) {
-        Some((mdt, at)) => (
-            mdt.iter().map(|&raw| Idn::from_raw(raw)).collect(),
-            at.iter().map(|&raw| Idn::from_raw(raw)).collect(),
-        ),
+    // Standard telegram types 0–6 (module table): the master's table, so drive and master
+    // cannot disagree on what a type carries.
+    let (mdt, at) = match u16::try_from(telegram_type)
+        .ok()
+        .and_then(sercdrv::master::standard_telegram)
+    {
+        Some(lists) => lists,
         None if telegram_type == 7 => {
             let mdt = idn_list(database, MDT_LIST)?;
             let at = idn_list(database, AT_LIST)?;

@@ -16,8 +16,8 @@ pub const TELEGRAM_TYPE_CONFIGURED: u16 = 7;
 
 /// The cyclic data of the standard telegram types 0-6 (S-0-0015, sercos-facts.md "Timing
 /// parameters": "0–6 standard"; contents as the drive manuals give them, the table of
-/// `sercos_drive::telegram_layout`): the MDT's command IDNs and the AT's feedback IDNs, in
-/// record order; `None` for 7 (configured) and above.
+/// `sercos_drive::telegram_layout`, which uses this one): the MDT's command IDNs and the
+/// AT's feedback IDNs, in record order; `None` for 7 (configured) and above.
 ///
 /// | type | MDT | AT |
 /// |---|---|---|
