@@ -169,12 +169,7 @@ impl StaticRing {
         let n16 = n as u16;
         let mut chip = ChipConfig::sercon816();
         // 816 §2.3.3: TM0 = TM1 = 1, no test mode (REPON = 1 after reset).
-        chip.straps = Straps {
-            sbaud: false,
-            sbaud16: false,
-            tm0: true,
-            tm1: true,
-        };
+        chip.straps = Straps::NORMAL;
         let ram = chip.variant.ram_words();
         let bt = self.bit_rate.bit_time();
         let us = |bits: u64| -> u64 { bt.saturating_mul(bits).as_picos().div_ceil(1_000_000) };

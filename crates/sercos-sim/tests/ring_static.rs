@@ -172,18 +172,24 @@ fn fast_path_gives_the_same_trace_as_the_exact_path() {
     );
 }
 
+/// The ring the fast and exact paths are compared on: `slaves` slaves at 250 µs, 30 m
+/// fibres, two data words each way.
+fn compared_ring(slaves: usize, delivery: Delivery) -> StaticRing {
+    let mut ring = StaticRing::new(slaves, 250);
+    ring.delivery = delivery;
+    ring.fibre_m = 30;
+    ring.at_words = 2;
+    ring.mdt_words = 2;
+    ring
+}
+
 /// Fast against exact on a ring of `slaves` with the log on the master's input fibre only
 /// (so that the fibres between slaves are plain and slave telegrams pass them by sums of
 /// delays, 410B §1 "The slaves regenerate and repeat their received data"), with `faults`.
 fn fast_equals_exact_at_master_input(slaves: usize, faults: Vec<Fault>, until: Instant) {
     let mut logs = Vec::new();
     for delivery in [Delivery::Exact, Delivery::Fast] {
-        let mut ring = StaticRing::new(slaves, 250);
-        ring.delivery = delivery;
-        ring.fibre_m = 30;
-        ring.at_words = 2;
-        ring.mdt_words = 2;
-        let (mut cfg, hosts, _) = build(&ring);
+        let (mut cfg, hosts, _) = build(&compared_ring(slaves, delivery));
         cfg.traces.log_segment = Some(SegmentId(slaves as u16));
         cfg.faults = faults.clone();
         let (_, out) = run(cfg, hosts, until);
@@ -248,12 +254,7 @@ fn unwoken_forwarded_copies_keep_the_exact_trace_and_nothing_late() {
     for segment in [slaves, 0] {
         let mut runs = Vec::new();
         for delivery in [Delivery::Exact, Delivery::Fast] {
-            let mut ring = StaticRing::new(slaves, 250);
-            ring.delivery = delivery;
-            ring.fibre_m = 30;
-            ring.at_words = 2;
-            ring.mdt_words = 2;
-            let (mut cfg, hosts, _) = build(&ring);
+            let (mut cfg, hosts, _) = build(&compared_ring(slaves, delivery));
             cfg.traces.log_segment = Some(SegmentId(segment as u16));
             let (sim, out) = run(cfg, hosts, us(1000));
             runs.push((out.log, sim.stats()));

@@ -171,8 +171,14 @@ impl WakeQueue {
     }
 
     /// Moves `k`, to be placed at `i`, up past larger parents.
-    fn sift_up(&mut self, mut i: usize, k: Key) {
-        while i > 0 {
+    fn sift_up(&mut self, i: usize, k: Key) {
+        self.sift_up_to(i, k, 0);
+    }
+
+    /// Moves `k`, to be placed at `i`, up past larger parents but not above `top`.
+    #[inline]
+    fn sift_up_to(&mut self, mut i: usize, k: Key, top: usize) {
+        while i > top {
             let parent = (i - 1) / 2;
             match self.heap.get(parent).copied() {
                 Some(pk) if k < pk => {
@@ -185,18 +191,21 @@ impl WakeQueue {
         self.put(i, k);
     }
 
+    /// The smaller child of `i` and its key, `None` at a leaf.
+    #[inline]
+    fn smaller_child(&self, i: usize) -> Option<(usize, Key)> {
+        let l = 2 * i + 1;
+        let &lk = self.heap.get(l)?;
+        Some(match self.heap.get(l + 1) {
+            Some(&rk) if rk < lk => (l + 1, rk),
+            _ => (l, lk),
+        })
+    }
+
     /// Moves `k`, to be placed at `i`, down past smaller children (a wake moved a little
     /// later stays near where it was).
     fn sift_down(&mut self, mut i: usize, k: Key) {
-        loop {
-            let l = 2 * i + 1;
-            let Some(&lk) = self.heap.get(l) else {
-                break;
-            };
-            let (c, ck) = match self.heap.get(l + 1) {
-                Some(&rk) if rk < lk => (l + 1, rk),
-                _ => (l, lk),
-            };
+        while let Some((c, ck)) = self.smaller_child(i) {
             if ck >= k {
                 break;
             }
@@ -211,29 +220,11 @@ impl WakeQueue {
     /// rises from there (it came from the bottom and rarely rises far).
     fn sift_hole_down(&mut self, mut i: usize, k: Key) {
         let start = i;
-        loop {
-            let l = 2 * i + 1;
-            let Some(&lk) = self.heap.get(l) else {
-                break;
-            };
-            let (c, ck) = match self.heap.get(l + 1) {
-                Some(&rk) if rk < lk => (l + 1, rk),
-                _ => (l, lk),
-            };
+        while let Some((c, ck)) = self.smaller_child(i) {
             self.put(i, ck);
             i = c;
         }
-        while i > start {
-            let parent = (i - 1) / 2;
-            match self.heap.get(parent).copied() {
-                Some(pk) if k < pk => {
-                    self.put(i, pk);
-                    i = parent;
-                }
-                _ => break,
-            }
-        }
-        self.put(i, k);
+        self.sift_up_to(i, k, start);
     }
 }
 
