@@ -14,12 +14,7 @@ fn us(n: u64) -> Instant {
 /// A SERCON816 with TM0 = TM1 = 1: no test mode, the repeater on after reset (816 §2.3.3).
 fn repeater() -> Chip {
     let mut cfg = ChipConfig::sercon816();
-    cfg.straps = Straps {
-        sbaud: false,
-        sbaud16: false,
-        tm0: true,
-        tm1: true,
-    };
+    cfg.straps = Straps::NORMAL;
     Chip::new(cfg)
 }
 

@@ -15,12 +15,7 @@ fn config(variant: Variant) -> ChipConfig {
         Variant::Sercon410b => ChipConfig::sercon410b(),
         Variant::Sercon816 => ChipConfig::sercon816(),
     };
-    cfg.straps = Straps {
-        sbaud: false,
-        sbaud16: false,
-        tm0: true,
-        tm1: true,
-    };
+    cfg.straps = Straps::NORMAL;
     cfg
 }
 

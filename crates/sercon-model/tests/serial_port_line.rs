@@ -29,12 +29,7 @@ fn us(n: u64) -> Instant {
 /// A SERCON816, SBAUD16 = 0 (816 rates), TM0 = TM1 = 1 (no test mode, REPON = 1 after reset).
 fn chip816(repon: bool) -> Chip {
     let mut cfg = ChipConfig::sercon816();
-    cfg.straps = Straps {
-        sbaud: false,
-        sbaud16: false,
-        tm0: true,
-        tm1: true,
-    };
+    cfg.straps = Straps::NORMAL;
     let mut chip = Chip::new(cfg);
     if !repon {
         chip.write_register(1, 0);
