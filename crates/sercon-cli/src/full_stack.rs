@@ -373,19 +373,7 @@ pub fn drive_parameters(address: u8, db: &IdnDatabase, cfg: &MasterConfig) -> Dr
 /// `None` when the master refuses the ring for another reason (a bit rate the chip does
 /// not have, …): building the ring says that in its own words.
 pub fn plan_ring(spec: &RingSpec) -> Result<Option<CycleTiming>, FullStackError> {
-    let addresses: Vec<DriveAddress> = spec
-        .drives
-        .iter()
-        .filter_map(|d| DriveAddress::new(d.address))
-        .collect();
-    let mut cfg = MasterConfig::new(spec.variant, spec.bit_rate, spec.cycle_us, addresses);
-    if !cfg.set_telegram_type(spec.telegram_type) {
-        return Err(RingError::Spec(format!(
-            "telegram type {} is not 0-7 (S-0-0015)",
-            spec.telegram_type
-        ))
-        .into());
-    }
+    let cfg = ring::master_config(spec)?;
     let databases = ring::databases(spec)?;
     let params = spec
         .drives

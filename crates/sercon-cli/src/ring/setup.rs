@@ -267,10 +267,9 @@ pub fn databases(spec: &RingSpec) -> Result<Vec<IdnDatabase>, RingError> {
         .collect()
 }
 
-/// Builds the ring of `spec` with `faults` (already in simulated time), traces on or off.
-pub fn build(spec: &RingSpec, faults: Vec<Fault>, traces: bool) -> Result<BuiltRing, RingError> {
-    validate(spec)?;
-    let databases = databases(spec)?;
+/// The master's configuration for `spec`'s ring: its drives in ring order and the telegram
+/// type; a type above 7 is refused.
+pub fn master_config(spec: &RingSpec) -> Result<MasterConfig, RingError> {
     let addresses: Vec<DriveAddress> = spec
         .drives
         .iter()
@@ -284,7 +283,14 @@ pub fn build(spec: &RingSpec, faults: Vec<Fault>, traces: bool) -> Result<BuiltR
             spec.telegram_type
         )));
     }
-    let master = Master::new(cfg).map_err(RingError::Master)?;
+    Ok(cfg)
+}
+
+/// Builds the ring of `spec` with `faults` (already in simulated time), traces on or off.
+pub fn build(spec: &RingSpec, faults: Vec<Fault>, traces: bool) -> Result<BuiltRing, RingError> {
+    validate(spec)?;
+    let databases = databases(spec)?;
+    let master = Master::new(master_config(spec)?).map_err(RingError::Master)?;
     let master = Rc::new(RefCell::new(MasterProbe::new(master)));
     let mut nodes = vec![NodeConfig::new("master", chip(spec.variant))];
     let mut hosts: Vec<Box<dyn HostProgram>> = vec![Box::new(Shared(master.clone()))];
