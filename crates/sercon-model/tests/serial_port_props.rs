@@ -1,11 +1,9 @@
 //! Property: arbitrary line input, register settings and transmit requests never panic or hang
 //! the model, and what it reports stays ordered (410B §2 RxD/TxD; spec-notes "Serial port").
 
-use std::sync::Arc;
-
 use proptest::prelude::*;
 use sercon_model::pins::PinSet;
-use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal};
+use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
 use sercon_model::{Chip, ChipConfig};
 use sercon_regs::SerconBus;
 use sercos_wire::line::BitVec;
@@ -77,7 +75,7 @@ proptest! {
                             for b in &bits {
                                 v.push(*b);
                             }
-                            LineSignal::Bits(Arc::new(v))
+                            LineSignal::Bits(Shared::new(v))
                         }
                         1 => LineSignal::Filler,
                         2 => LineSignal::Dark,

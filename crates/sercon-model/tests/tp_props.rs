@@ -2,10 +2,8 @@
 //! processor (410B §4.2: every walk is bounded; errors go to PROGERR_FL). The frames come
 //! over the line interface, encoded (with a hint) or corrupted (without one).
 
-use std::sync::Arc;
-
 use proptest::prelude::*;
-use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal};
+use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
 use sercon_model::{Chip, ChipConfig};
 use sercon_regs::{Register, SerconBus, SerconBusExt};
 use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity};
@@ -51,7 +49,7 @@ proptest! {
                 continue;
             }
             let (signal, hint) = if ok {
-                let hint = FrameHint { telegram: Arc::from(&bytes[..]), offset: 0 };
+                let hint = FrameHint { telegram: Shared::from(&bytes[..]), offset: 0 };
                 (bits, Some(hint))
             } else {
                 // One light level inverted: the receiver decodes whatever that gives.
@@ -64,7 +62,7 @@ proptest! {
             chip.line_input(LineSegment {
                 start,
                 bit_time,
-                signal: LineSignal::Bits(Arc::new(signal)),
+                signal: LineSignal::Bits(Shared::new(signal)),
                 level_before: false,
                 hint,
                 distorted: false,

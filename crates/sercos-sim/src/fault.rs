@@ -1,11 +1,9 @@
 //! Faults, scheduled in simulated time and seeded. A fault acts only on the line (segments)
 //! or the pins and power of a node, never on a controller's internals.
 
-use std::sync::Arc;
-
 use rand_chacha::ChaCha8Rng;
 use rand_core::{RngCore, SeedableRng};
-use sercon_model::serial_port::{LineSegment, LineSignal};
+use sercon_model::serial_port::{LineSegment, LineSignal, Shared};
 use sercos_wire::line::BitVec;
 use sercos_wire::time::Instant;
 
@@ -209,7 +207,7 @@ impl SegmentFaults {
             }
             out.push(b ^ flip);
         }
-        seg.signal = LineSignal::Bits(Arc::new(out));
+        seg.signal = LineSignal::Bits(Shared::new(out));
         seg.hint = None;
         seg
     }

@@ -4,10 +4,9 @@
 
 use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;
-use std::sync::Arc;
 
 use sercon_model::pins::PinEvent;
-use sercon_model::serial_port::{LineSegment, LineSignal};
+use sercon_model::serial_port::{LineSegment, LineSignal, Shared};
 use sercon_model::vcd_trace::{Timescale, TracedChip, write_vcd};
 use sercos_wire::line::{Coding, Decoded, Decoder, LineConfig, LineError, Polarity};
 use sercos_wire::telegram::Origin;
@@ -37,7 +36,7 @@ pub struct TraceOutput {
 
 #[derive(Debug, Clone)]
 enum What {
-    Telegram(Arc<[u8]>),
+    Telegram(Shared<[u8]>),
     Error(LineError, Vec<u8>),
 }
 
@@ -171,7 +170,7 @@ impl Recorder {
         let mut found = Vec::new();
         dec.push(bits.bits(), |d| {
             let what = match d {
-                Decoded::Telegram(f) => What::Telegram(Arc::from(f.bytes)),
+                Decoded::Telegram(f) => What::Telegram(Shared::from(f.bytes)),
                 Decoded::Error { error, received } => What::Error(error, received.to_vec()),
             };
             found.push((d.start(), what));

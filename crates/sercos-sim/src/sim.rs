@@ -9,13 +9,12 @@
 //! (`Delivery::Exact`): every repeater's output is taken from its chip, hop by hop.
 
 use sercon_model::pins::{PinEvent, PinSet};
-use sercon_model::serial_port::{LineSegment, LineSignal, REPEATER_LATENCY_BITS};
+use sercon_model::serial_port::{LineSegment, LineSignal, REPEATER_LATENCY_BITS, Shared};
 use sercon_model::vcd_trace::TracedChip;
 use sercon_model::{Chip, ChipConfig};
 use sercos_wire::line::BitVec;
 use sercos_wire::telegram::Origin;
 use sercos_wire::time::{Duration, Instant};
-use std::sync::Arc;
 
 use crate::clock::NodeClock;
 use crate::config::{Delivery, MAX_SLAVES, SimConfig};
@@ -627,7 +626,7 @@ impl Simulation {
                 g.push(b ^ (i as u64 >= keep && i % 2 == 1));
             }
             LineSegment {
-                signal: LineSignal::Bits(Arc::new(g)),
+                signal: LineSignal::Bits(Shared::new(g)),
                 hint: None,
                 ..seg
             }

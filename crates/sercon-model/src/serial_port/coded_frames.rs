@@ -4,13 +4,11 @@
 //! ATs whose data did not change), so the transmitter looks a telegram up here before it
 //! encodes it: the same bytes with the same sync word on a line at the same level give the
 //! same NRZI bits (410B §2 TxD: NRZI coding depends only on the data and the level before
-//! the first bit), shared through an `Arc` instead of being encoded and allocated again.
-
-use std::sync::Arc;
+//! the first bit), shared through a [`Shared`] count instead of being encoded and allocated again.
 
 use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity, frame_bit_len};
 
-use super::PRESYNC_BITS;
+use super::{PRESYNC_BITS, Shared};
 
 /// Telegrams remembered (a master's MST and MDTs, a slave's ATs: a handful per cycle).
 const ENTRIES: usize = 8;
@@ -18,13 +16,13 @@ const ENTRIES: usize = 8;
 /// One telegram and its coded forms.
 #[derive(Debug, Clone)]
 struct Entry {
-    telegram: Arc<[u8]>,
+    telegram: Shared<[u8]>,
     presync: bool,
     /// Line bits: sync word, flags, stuffed data and FCS.
     len: u64,
     /// The bits on a line at level `false` / `true` before the first bit, with the offset
     /// of the opening flag.
-    coded: [Option<(Arc<BitVec>, u64)>; 2],
+    coded: [Option<(Shared<BitVec>, u64)>; 2],
 }
 
 /// The telegrams sent lately (round robin).
@@ -37,7 +35,7 @@ pub(crate) struct CodedFrames {
 impl CodedFrames {
     /// The shared bytes of `telegram` and its length in line bits (with the sync word if
     /// `presync`).
-    pub(crate) fn lookup(&mut self, telegram: &[u8], presync: bool) -> (Arc<[u8]>, u64) {
+    pub(crate) fn lookup(&mut self, telegram: &[u8], presync: bool) -> (Shared<[u8]>, u64) {
         if let Some(e) = self
             .entries
             .iter()
@@ -47,7 +45,7 @@ impl CodedFrames {
         }
         let sync = if presync { PRESYNC_BITS } else { 0 };
         let entry = Entry {
-            telegram: Arc::from(telegram),
+            telegram: Shared::from(telegram),
             presync,
             len: sync + frame_bit_len(telegram),
             coded: [None, None],
@@ -67,15 +65,15 @@ impl CodedFrames {
     /// `None` when it cannot be encoded.
     pub(crate) fn coded(
         &mut self,
-        telegram: &Arc<[u8]>,
+        telegram: &Shared<[u8]>,
         presync: bool,
         len: u64,
         level: bool,
-    ) -> Option<(Arc<BitVec>, u64)> {
+    ) -> Option<(Shared<BitVec>, u64)> {
         let entry = self
             .entries
             .iter_mut()
-            .find(|e| e.presync == presync && Arc::ptr_eq(&e.telegram, telegram));
+            .find(|e| e.presync == presync && Shared::ptr_eq(&e.telegram, telegram));
         let slot = usize::from(level);
         if let Some(hit) = entry
             .as_ref()
@@ -92,7 +90,7 @@ impl CodedFrames {
 }
 
 /// Encodes `telegram` for a line at light level `level` before its first bit.
-fn encode(telegram: &[u8], presync: bool, len: u64, level: bool) -> Option<(Arc<BitVec>, u64)> {
+fn encode(telegram: &[u8], presync: bool, len: u64, level: bool) -> Option<(Shared<BitVec>, u64)> {
     // NRZI only depends on the polarity for the level before the first bit (a dark line),
     // so the polarity whose dark level is `level` continues a line at `level`.
     let polarity = if level {
@@ -108,7 +106,7 @@ fn encode(telegram: &[u8], presync: bool, len: u64, level: bool) -> Option<(Arc<
     }
     let offset = bits.len();
     enc.encode(telegram, &mut bits).ok()?;
-    Some((Arc::new(bits), offset))
+    Some((Shared::new(bits), offset))
 }
 
 #[cfg(test)]
@@ -128,8 +126,8 @@ mod tests {
             assert_eq!(bits.len(), len);
         }
         // The same bytes share the first allocation; other bytes or a sync word do not.
-        assert!(Arc::ptr_eq(&c.lookup(&mst, false).0, &t));
-        assert!(!Arc::ptr_eq(&c.lookup(&mst, true).0, &t));
+        assert!(Shared::ptr_eq(&c.lookup(&mst, false).0, &t));
+        assert!(!Shared::ptr_eq(&c.lookup(&mst, true).0, &t));
         assert_eq!(c.lookup(&mst, true).1, len + PRESYNC_BITS);
     }
 

@@ -17,7 +17,7 @@ use sercon_regs::Variant;
 use sercos_wire::time::{BitRate, Duration, Instant};
 
 use crate::config::Straps;
-pub use segment::{FrameHint, LineSegment, LineSignal};
+pub use segment::{FrameHint, LineSegment, LineSignal, Shared};
 
 use line_events::{Change, LineEvents};
 use port_config::{PortConfig, TxMode};

@@ -17,16 +17,23 @@
 //! * Segments of one line come in order of `start`. A segment that starts before the end of the
 //!   previous [`LineSignal::Bits`] segment cuts it there (a collision).
 
-use std::sync::Arc;
+use std::rc::Rc;
 
 use sercos_wire::line::{BitVec, Bits};
 use sercos_wire::time::{Duration, Instant};
+
+/// How the line interface shares a segment's bits and a hint's telegram between the sender,
+/// its cache of coded frames, the receiver and a repeater's copy: a reference count without
+/// atomics. A simulation runs its chips on one thread, and an atomic count costs ≈ 11 ns per
+/// clone and drop against a few instructions for this one (`docs/performance.md`, "Controller
+/// pair"); segments and chips are therefore neither `Send` nor `Sync`.
+pub type Shared<T> = Rc<T>;
 
 /// What the line carries during a segment.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum LineSignal {
     /// Explicit light levels, one per bit time, the first bit at `start`.
-    Bits(Arc<BitVec>),
+    Bits(Shared<BitVec>),
     /// Idle filler: the light changes at the start of every bit time (NRZI-coded data 0s, the
     /// square wave a master keeps on the fibre between telegrams; sercos-facts, Line and
     /// framing). Also the test signal "zero bit stream" (410B §2 TM1, §4.1 2H TMODE = 5).
@@ -46,7 +53,7 @@ pub enum LineSignal {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct FrameHint {
     /// The telegram bytes (ADR and data, without FCS).
-    pub telegram: Arc<[u8]>,
+    pub telegram: Shared<[u8]>,
     /// The first bit of the opening flag, counted from the segment's first bit.
     pub offset: u64,
 }
@@ -95,7 +102,7 @@ impl LineSegment {
         LineSegment {
             start,
             bit_time,
-            signal: LineSignal::Bits(Arc::new(bits)),
+            signal: LineSignal::Bits(Shared::new(bits)),
             level_before,
             hint: None,
             distorted: false,
@@ -155,7 +162,7 @@ impl LineSegment {
             LineSignal::Dark => LineSignal::Light,
             LineSignal::Light => LineSignal::Dark,
             LineSignal::Filler => LineSignal::Filler,
-            LineSignal::Bits(b) => LineSignal::Bits(Arc::new(invert_bits(&b))),
+            LineSignal::Bits(b) => LineSignal::Bits(Shared::new(invert_bits(&b))),
         };
         self
     }
@@ -186,7 +193,7 @@ impl LineSegment {
                         .start
                         .saturating_add(self.bit_time.saturating_mul(skip)),
                     bit_time: self.bit_time,
-                    signal: LineSignal::Bits(Arc::new(out)),
+                    signal: LineSignal::Bits(Shared::new(out)),
                     level_before,
                     hint: None,
                     distorted: self.distorted,

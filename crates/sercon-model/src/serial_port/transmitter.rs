@@ -8,12 +8,11 @@
 //! repeat their received data or send their own telegrams").
 
 use std::collections::VecDeque;
-use std::sync::Arc;
 
 use sercos_wire::time::{Duration, Instant};
 
 use super::coded_frames::CodedFrames;
-use super::segment::{FrameHint, LineSegment, LineSignal};
+use super::segment::{FrameHint, LineSegment, LineSignal, Shared};
 
 /// An own telegram placed on the transmitter's timeline.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,7 +32,7 @@ struct Own {
     /// Send the pre-frame sync word first (1H.8 PRESYNC).
     presync: bool,
     /// ADR and data, shared with the segment's [`FrameHint`].
-    telegram: Arc<[u8]>,
+    telegram: Shared<[u8]>,
     /// Line bits (sync word, flags, stuffed data and FCS).
     len: u64,
 }

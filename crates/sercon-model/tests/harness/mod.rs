@@ -6,9 +6,8 @@
 #![allow(dead_code)]
 
 use std::collections::VecDeque;
-use std::sync::Arc;
 
-use sercon_model::serial_port::{LineSegment, LineSignal, REPEATER_LATENCY_BITS};
+use sercon_model::serial_port::{LineSegment, LineSignal, REPEATER_LATENCY_BITS, Shared};
 use sercon_model::{Chip, ChipConfig};
 use sercon_regs::ram::container::ContainerControl;
 use sercon_regs::ram::header::{EndMarker, RxHeader, TxEnable, TxHeader};
@@ -271,7 +270,7 @@ pub fn corrupted(mut seg: LineSegment) -> LineSegment {
         for (i, b) in bits.bits().iter().enumerate() {
             out.push(if i as u64 == flip { !b } else { b });
         }
-        seg.signal = LineSignal::Bits(Arc::new(out));
+        seg.signal = LineSignal::Bits(Shared::new(out));
     }
     seg.hint = None;
     seg
