@@ -124,7 +124,8 @@ impl Simulation {
     }
 
     /// Moves node `j`'s chip on by one bus access of `cost`, running the ring along: in
-    /// steps no longer than the shortest fibre (no signal gets from one node to another
+    /// steps that end no later than the shortest fibre after the next wake of the others
+    /// and after the chip's own next event (no signal gets from one node to another
     /// faster), the chip first (its output goes on the line at once), then every event of
     /// the other nodes up to the step's end.
     fn spend_host_time(&mut self, j: usize, cost: Duration) -> Result<(), SimError> {
@@ -156,6 +157,7 @@ impl Simulation {
             }
             return Ok(());
         }
+        let mut first = true;
         loop {
             let Some(node) = self.nodes.get_mut(j) else {
                 return Ok(());
@@ -164,18 +166,51 @@ impl Simulation {
                 return Ok(());
             }
             let from = node.clock.to_global(node.chip.now());
+            let own = node.chip.next_event_at();
             let mut step = until;
-            if let Some(h) = hop {
-                step = step.min(from.saturating_add(h));
-            }
-            if let Some(e) = self.queue.peek_time() {
-                step = step.min(e.max(from));
+            match hop {
+                // Nothing a node sends at `e` reaches another before `e + hop`: the chip
+                // may run up to a fibre past the next wake of the others (what they send
+                // then arrives no earlier) and a fibre past its own next event (what it
+                // sends then, served at once below, reaches the others no earlier, and
+                // anything they send back no earlier still). Faults act at their instant
+                // (a node's power or clock), so the step stops there; so do nodes still
+                // waiting to be served (what they release may have started before now).
+                Some(h) if self.touched.is_empty() => {
+                    if let Some(w) = self.queue.peek_wake_time() {
+                        step = step.min(w.saturating_add(h));
+                    }
+                    if let Some(f) = self.queue.peek_fault_time() {
+                        step = step.min(f.max(from));
+                    }
+                    let own = own.map_or(Instant::MAX, |e| node.clock.to_global(e));
+                    step = step.min(own.max(from).saturating_add(h));
+                }
+                _ => {
+                    if let Some(h) = hop {
+                        step = step.min(from.saturating_add(h));
+                    }
+                    if let Some(e) = self.queue.peek_time() {
+                        step = step.min(e.max(from));
+                    }
+                }
             }
             let local = node.clock.to_local(step).min(target);
             // Always forward: at least to the next picosecond of the node's own time.
             let local = local.max(node.chip.now().saturating_add(Duration::from_picos(1)));
+            // The node is served (pins, output, wake) on the access's first step (the
+            // access may have changed what its chip does next: its wake must follow, as
+            // hosts woken meanwhile run ahead and the queue alone moves this chip on) and
+            // then only when its chip has something due up to the step's end: otherwise
+            // moving it on changes nothing anyone can see (no internal event, so no pin
+            // or interrupt change; no output segment) and leaves its next event, so its
+            // wake, where they were; its host is busy, so it is not woken either.
+            let due = first || own.is_some_and(|e| e <= local);
+            first = false;
             node.chip.advance_to(local);
-            self.touch(j);
+            if due {
+                self.touch(j);
+            }
             self.settle()?;
             let step = self
                 .nodes
