@@ -76,6 +76,10 @@ pub(crate) struct CyclicImage {
     mdt_order: Vec<usize>,
     /// Indices of `drives` by address.
     index: DriveIndex,
+    /// Whether the AT's service info words are read (for a host-run service channel); with
+    /// the chip's service containers the container takes them (410B §4.2.2 SVFL, §4.2.4;
+    /// ERRATA "service info in a container") and they read as 0 in [`DriveCyclic::received`].
+    pub read_service_info: bool,
     /// Word 0 of the MDT's transmit header as last read or written (VAL is the driver's).
     mdt_word0: Option<u16>,
     /// An AT's words while they are read (swapped into `received` when good).
@@ -111,6 +115,7 @@ impl CyclicImage {
             at_order,
             mdt_order,
             index,
+            read_service_info: false,
             mdt_word0: None,
             scratch: Vec::new(),
         }
@@ -208,6 +213,12 @@ impl CyclicImage {
         let variant = self.variant;
         let mut ok = 0;
         let scratch = &mut self.scratch;
+        // The service info follows the status word (sercos-telegrams.md "Data Record").
+        let skip = if self.read_service_info {
+            0..0
+        } else {
+            1..RECORD_HEADER_WORDS
+        };
         for d in &mut self.drives {
             let mut good = false;
             let mut word0 = bus.read_ram(d.at_header);
@@ -230,7 +241,7 @@ impl CyclicImage {
                     good = false;
                     break;
                 };
-                read_words(bus, start, d.feedback.len, scratch);
+                read_words(bus, start, d.feedback.len, skip.clone(), scratch);
                 if !check {
                     break;
                 }
@@ -362,10 +373,23 @@ fn buffer_start(place: &ContainerPlace, buffer: u8) -> Option<u16> {
     }
 }
 
-/// `len` words from `start` into `out` (its old contents dropped).
-fn read_words<B: SerconBus + ?Sized>(bus: &mut B, start: u16, len: u16, out: &mut Vec<u16>) {
+/// `len` words from `start` into `out` (its old contents dropped); the words at the
+/// offsets in `skip` are not read and stand as 0.
+fn read_words<B: SerconBus + ?Sized>(
+    bus: &mut B,
+    start: u16,
+    len: u16,
+    skip: std::ops::Range<usize>,
+    out: &mut Vec<u16>,
+) {
     out.clear();
-    out.extend((0..len).map(|i| bus.read_ram(start.wrapping_add(i))));
+    out.extend((0..len).map(|i| {
+        if skip.contains(&usize::from(i)) {
+            0
+        } else {
+            bus.read_ram(start.wrapping_add(i))
+        }
+    }));
 }
 
 /// The value of `item` in `record` (words low first), if the record holds it.

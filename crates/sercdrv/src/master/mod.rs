@@ -33,7 +33,7 @@ pub use status::{DriveStatus, MasterStatus, Progress};
 use sercon_regs::host::{HostProgram, Wake};
 use sercon_regs::ram::COMPT1;
 use sercon_regs::ram::container::ContainerControl;
-use sercon_regs::ram::header::{Buffering, Header, HeaderKind, TxEnable};
+use sercon_regs::ram::header::{Buffering, Header, HeaderKind, RxHeader, TxEnable, TxHeader};
 use sercon_regs::{Ctrl2, IntFlagsLo, Jtrdel1, Jtrdel2, SerconBus, SerconBusExt, Tcycdel};
 use sercos_wire::address::DriveAddress;
 use sercos_wire::idn::Idn;
@@ -792,8 +792,10 @@ impl Master {
     /// (410B §4.2.1 ACHK, RERR).
     fn at_from<B: SerconBus + ?Sized>(&self, bus: &mut B) -> Option<u8> {
         let places = self.places?;
-        match bus.read_header(self.cfg.variant, places.at_header) {
-            Ok(Header::Receive(h)) if !h.rerr => Some(h.adr),
+        // ADR, ACHK and RERR are all in word 0; it alone is read.
+        let word0 = bus.read_ram(places.at_header);
+        match RxHeader::from_words(self.cfg.variant, [word0, 0, 0, 0, 0]) {
+            Ok(h) if !h.rerr => Some(h.adr),
             _ => None,
         }
     }
@@ -1309,6 +1311,10 @@ impl Master {
                 )
             })?;
             self.host_sc = Some(host);
+            // The host-run channel takes the AT's service info from the record.
+            if let Some(image) = self.cyclic.as_mut() {
+                image.read_service_info = true;
+            }
         } else if self.shared_containers() {
             // 410B §4.2.2: the routes in effect go into the new data containers.
             let places: Vec<_> = self
@@ -1701,13 +1707,17 @@ fn set_mdt<B: SerconBus + ?Sized>(
     drive: Option<DriveAddress>,
     en: TxEnable,
 ) {
-    if let Ok(Header::Transmit(mut h)) = bus.read_header(variant, places.mdt_header) {
+    // ADR and EN are in word 0; it alone is read and written.
+    let word0 = bus.read_ram(places.mdt_header);
+    if let Ok(mut h) = TxHeader::from_words(variant, [word0, 0, 0, 0]) {
         if let Some(drive) = drive {
             h.adr = drive.get();
         }
         h.en = en;
-        let words = h.to_words(variant);
-        bus.write_ram(places.mdt_header, words[0]);
+        let [new0, ..] = h.to_words(variant);
+        if new0 != word0 {
+            bus.write_ram(places.mdt_header, new0);
+        }
     }
 }
 
