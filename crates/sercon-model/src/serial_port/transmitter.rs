@@ -243,6 +243,13 @@ impl Transmitter {
         if self.released.is_empty() {
             return;
         }
+        if out.is_empty() {
+            // The usual case (a simulation drains `out` after each take): the two buffers
+            // trade places, both keep their capacity and nothing is copied (`append` calls
+            // memcpy, ≈ 3 % of the pair bench's time).
+            std::mem::swap(out, &mut self.released);
+            return;
+        }
         out.append(&mut self.released);
     }
 }
