@@ -14,6 +14,7 @@ mod interrupts;
 mod mclk;
 mod mst;
 pub mod pins;
+mod reciprocal;
 mod register_access;
 mod register_file;
 mod reset;

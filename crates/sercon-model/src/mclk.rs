@@ -7,21 +7,25 @@
 
 use sercos_wire::time::Instant;
 
+use crate::reciprocal::Reciprocal;
+
 const PS_PER_S: u128 = 1_000_000_000_000;
 
 /// Converts between MCLK ticks and instants.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct MclkClock {
     hz: u64,
-    /// Picoseconds per tick when that is a whole number (the fast path).
-    ps_per_tick: Option<u64>,
+    /// Picoseconds per tick when that is a whole number (the fast path), with its
+    /// reciprocal (instants become ticks by a multiplication, not a division).
+    ps_per_tick: Option<Reciprocal>,
 }
 
 impl MclkClock {
     /// A clock of `hz` (clamped to 1 Hz ..= 1 THz).
     pub(crate) fn new(hz: u64) -> Self {
         let hz = hz.clamp(1, 1_000_000_000_000);
-        let exact = (PS_PER_S % u128::from(hz) == 0).then(|| (PS_PER_S / u128::from(hz)) as u64);
+        let exact = (PS_PER_S % u128::from(hz) == 0)
+            .then(|| Reciprocal::new((PS_PER_S / u128::from(hz)) as u64));
         MclkClock {
             hz,
             ps_per_tick: exact,
@@ -33,7 +37,7 @@ impl MclkClock {
         let ps = match self.ps_per_tick {
             // The fast path stays in 64 bits (a 128-bit product and division per call
             // showed up in the event loop's profile).
-            Some(p) => return Instant::from_picos(k.saturating_mul(p)),
+            Some(p) => return Instant::from_picos(k.saturating_mul(p.divisor())),
             None => u128::from(k) * PS_PER_S / u128::from(self.hz),
         };
         Instant::from_picos(u64::try_from(ps).unwrap_or(u64::MAX))
@@ -42,8 +46,8 @@ impl MclkClock {
     /// The last tick at or before `t`.
     pub(crate) fn tick_at_or_before(&self, t: Instant) -> u64 {
         let k = match self.ps_per_tick {
-            // `p` ≥ 1 (hz ≤ 10¹²): a 64-bit division.
-            Some(p) => return t.as_picos() / p.max(1),
+            // `p` ≥ 1 (hz ≤ 10¹²).
+            Some(p) => return p.div(t.as_picos()),
             // largest k with floor(k·10¹²/f) <= ps  <=>  k·10¹² < (ps+1)·f
             None => {
                 let ps = u128::from(t.as_picos());
@@ -56,7 +60,7 @@ impl MclkClock {
     /// The first tick at or after `t`.
     pub(crate) fn tick_at_or_after(&self, t: Instant) -> u64 {
         if let Some(p) = self.ps_per_tick {
-            return t.as_picos().div_ceil(p.max(1));
+            return p.div_ceil(t.as_picos());
         }
         let k = self.tick_at_or_before(t);
         if self.instant(k) >= t {
