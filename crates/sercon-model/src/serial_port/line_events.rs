@@ -46,6 +46,10 @@ pub(crate) struct LineEvents {
     pins: VecDeque<(Instant, Change)>,
     /// The RDIST value of the last applied change (the port's RDIST status).
     rdist_now: bool,
+    /// The instants of the first entries of `status` and `pins`, kept up to date by every
+    /// change of the queues: the chip asks for them on every advance, so they are loads, not
+    /// queue fronts.
+    fronts: (Option<Instant>, Option<Instant>),
 }
 
 /// Inserts `(at, change)` into the time-ordered `queue`, after the entries at `at`.
@@ -66,6 +70,7 @@ impl LineEvents {
     pub(crate) fn push(&mut self, at: Instant, change: Change) {
         if change.is_pin_level() {
             insert(&mut self.pins, at, change);
+            self.fronts.1 = Some(self.fronts.1.map_or(at, |f| f.min(at)));
             return;
         }
         if let Change::Rdist(v) = change
@@ -74,22 +79,31 @@ impl LineEvents {
             return;
         }
         insert(&mut self.status, at, change);
+        self.fronts.0 = Some(self.fronts.0.map_or(at, |f| f.min(at)));
+        debug_assert_eq!(self.fronts, self.compute_fronts());
     }
 
-    /// The instant of the earliest change.
-    pub(crate) fn next_at(&self) -> Option<Instant> {
-        earliest(
+    /// `fronts` from the queues.
+    fn compute_fronts(&self) -> (Option<Instant>, Option<Instant>) {
+        (
             self.status.front().map(|(t, _)| *t),
             self.pins.front().map(|(t, _)| *t),
         )
     }
 
+    /// The instant of the earliest change.
+    pub(crate) fn next_at(&self) -> Option<Instant> {
+        debug_assert_eq!(self.fronts, self.compute_fronts());
+        earliest(self.fronts.0, self.fronts.1)
+    }
+
     /// The instant of the earliest change to apply in time order: a status change, or any
     /// change when `pins_loud` (IDLE or REACTN traced).
     pub(crate) fn next_loud_at(&self, pins_loud: bool) -> Option<Instant> {
-        let status = self.status.front().map(|(t, _)| *t);
+        debug_assert_eq!(self.fronts, self.compute_fronts());
+        let status = self.fronts.0;
         if pins_loud {
-            earliest(status, self.pins.front().map(|(t, _)| *t))
+            earliest(status, self.fronts.1)
         } else {
             status
         }
@@ -109,12 +123,16 @@ impl LineEvents {
     /// Removes and returns the earliest change if it is at or before `t` (status changes
     /// first at equal instants; the two kinds do not depend on each other).
     pub(crate) fn pop_until(&mut self, t: Instant) -> Option<(Instant, Change)> {
-        let s = self.status.front().map(|(at, _)| *at).filter(|at| *at <= t);
-        let p = self.pins.front().map(|(at, _)| *at).filter(|at| *at <= t);
+        let s = self.fronts.0.filter(|at| *at <= t);
+        let p = self.fronts.1.filter(|at| *at <= t);
         let next = match (s, p) {
-            (Some(a), Some(b)) if b < a => self.pins.pop_front(),
-            (Some(_), _) => self.status.pop_front(),
-            (None, Some(_)) => self.pins.pop_front(),
+            (Some(a), Some(b)) if b < a => self.pop_pin(),
+            (Some(_), _) => {
+                let next = self.status.pop_front();
+                self.fronts.0 = self.status.front().map(|(t, _)| *t);
+                next
+            }
+            (None, Some(_)) => self.pop_pin(),
             (None, None) => None,
         };
         if let Some((_, Change::Rdist(v))) = next {
@@ -125,11 +143,19 @@ impl LineEvents {
 
     /// Removes and returns the earliest IDLE / REACTN change if it is at or before `t`.
     pub(crate) fn pop_pin_until(&mut self, t: Instant) -> Option<(Instant, Change)> {
-        if self.pins.front().is_some_and(|(at, _)| *at <= t) {
-            self.pins.pop_front()
+        debug_assert_eq!(self.fronts, self.compute_fronts());
+        if self.fronts.1.is_some_and(|at| at <= t) {
+            self.pop_pin()
         } else {
             None
         }
+    }
+
+    /// Removes and returns the first IDLE / REACTN change.
+    fn pop_pin(&mut self) -> Option<(Instant, Change)> {
+        let next = self.pins.pop_front();
+        self.fronts.1 = self.pins.front().map(|(t, _)| *t);
+        next
     }
 
     /// Drops the receiver's changes at or after `t` (a collision cut the signal they came
@@ -137,6 +163,7 @@ impl LineEvents {
     pub(crate) fn cancel_receive_from(&mut self, t: Instant) {
         self.status.retain(|(at, c)| *at < t || !c.is_receive());
         self.pins.retain(|(at, c)| *at < t || !c.is_receive());
+        self.fronts = self.compute_fronts();
     }
 
     /// The last scheduled FIBBR value, if any is scheduled.

@@ -53,6 +53,10 @@ pub(crate) struct Transmitter {
     own_until: Instant,
     /// After an own telegram, the background is resumed at this instant.
     resume_at: Option<Instant>,
+    /// The earliest of the first own telegram's start, the first background segment's start
+    /// and `resume_at`, kept up to date by every change of those: asked on every turn of an
+    /// event loop, it is then a load, not two queue fronts.
+    next_release: Option<Instant>,
     /// The output segment released last, without its hint (only its levels are asked for).
     last_out: Option<LineSegment>,
     /// Released segments the simulation has not taken yet.
@@ -107,6 +111,7 @@ impl Transmitter {
             len,
         });
         self.busy_until = end;
+        self.next_release = self.compute_next_release();
         Some(Placed { start, end })
     }
 
@@ -117,6 +122,7 @@ impl Transmitter {
             self.background.pop_back();
         }
         self.background.push_back(seg);
+        self.next_release = self.compute_next_release();
     }
 
     /// The light level of the output line at `t` (at or after the last release).
@@ -126,7 +132,12 @@ impl Transmitter {
 
     /// The instant the next output segment starts, if one is queued.
     pub(crate) fn next_release_at(&self) -> Option<Instant> {
-        // Asked on every turn of a ring's event loop: plain comparisons.
+        debug_assert_eq!(self.next_release, self.compute_next_release());
+        self.next_release
+    }
+
+    /// [`Transmitter::next_release_at`] from the queues.
+    fn compute_next_release(&self) -> Option<Instant> {
         let mut next = self.resume_at;
         for t in [
             self.own.front().map(|s| s.start),
@@ -156,7 +167,7 @@ impl Transmitter {
 
     /// Releases every output segment that starts at or before `now`.
     pub(crate) fn release(&mut self, now: Instant) {
-        while let Some(t) = self.next_release_at().filter(|t| *t <= now) {
+        while let Some(t) = self.compute_next_release().filter(|t| *t <= now) {
             if self.own.front().is_some_and(|s| s.start == t) {
                 let Some(own) = self.own.pop_front() else {
                     break;
@@ -218,6 +229,7 @@ impl Transmitter {
                 }
             }
         }
+        self.next_release = self.compute_next_release();
     }
 
     fn emit(&mut self, seg: LineSegment) {
