@@ -42,6 +42,11 @@ pub struct Chip {
     /// input moves. Lets an advance with nothing due, and [`Chip::next_event_at`], skip
     /// recomputing every component's next tick.
     pub(crate) next_core: Option<Option<Instant>>,
+    /// The telegram processor's next tick, kept like `next_core` (`Some` exactly when it
+    /// is): the first turn of [`Chip::advance_to`]'s loop, and every turn after a step of
+    /// the timing control that started no cycle, reuse it instead of walking the
+    /// processor's state again.
+    pub(crate) tp_next: Option<Option<u64>>,
     /// Frames of one line input on their way to the telegram processor (reused).
     pub(crate) rx_scratch: Vec<crate::serial_port::RxFrame>,
     /// Last traced levels of DMAREQR / DMAREQT in static mode, and the tick of the last
@@ -81,6 +86,7 @@ impl Chip {
             tp: Default::default(),
             serial,
             next_core: None,
+            tp_next: None,
             rx_scratch: Vec::new(),
             dma_trace: [(false, None); 2],
         }
@@ -120,11 +126,15 @@ impl Chip {
                 }
             }
             let limit = self.clock.tick_at_or_before(t);
+            let mut tp_next = match self.tp_next.take() {
+                Some(memo) => memo,
+                None => crate::telegram_processor::next_tick(self),
+            };
             let next_ticks = loop {
+                debug_assert_eq!(tp_next, crate::telegram_processor::next_tick(self));
                 // The timing control goes first at equal ticks: a cycle start sends the
                 // MST before the telegram processor's events of that tick.
                 let engine_next = self.engine.next_tick_memo();
-                let tp_next = crate::telegram_processor::next_tick(self);
                 let engine_tick = engine_next.filter(|k| *k <= limit);
                 let tp_tick = tp_next.filter(|k| *k <= limit);
                 // The serial port's changes (exact instants) go before MCLK ticks at or
@@ -150,13 +160,17 @@ impl Chip {
                         if step.cycle_started {
                             crate::telegram_processor::on_cycle_start(self, step.tick);
                             self.settle_tick(step.tick);
+                            tp_next = crate::telegram_processor::next_tick(self);
                         }
+                        // Otherwise the step changed the timing control only: the
+                        // processor's next tick stands.
                     }
                     (_, Some(k)) => {
                         let fifo = self.tp.fifo.state();
                         let flags = self.engine.flags;
                         crate::telegram_processor::step(self, k);
                         self.dma_changed(fifo, k);
+                        tp_next = crate::telegram_processor::next_tick(self);
                         // The engine's pin levels follow its interrupt flags, settings,
                         // timing outputs and watchdog. The processor reads the settings,
                         // raises flags, and changes the engine's timing only through
@@ -181,6 +195,7 @@ impl Chip {
             let core = tick.map(|k| self.clock.instant(k));
             debug_assert_eq!(core, self.compute_next_core());
             self.next_core = Some(core);
+            self.tp_next = Some(next_ticks.1);
         }
         self.now = t;
     }
@@ -212,6 +227,7 @@ impl Chip {
     /// the telegram processor is recomputed at the next advance.
     pub(crate) fn touched(&mut self) {
         self.next_core = None;
+        self.tp_next = None;
         self.engine.next_memo = None;
     }
 

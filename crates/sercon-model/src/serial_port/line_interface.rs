@@ -38,6 +38,10 @@ impl Chip {
                 let at = self.clock.instant(tick);
                 *core = Some(core.map_or(at, |c| c.min(at)));
             }
+            if let Some(next) = self.tp_next.as_mut() {
+                // The processor's next tick is the earlier of its own and the first frame's.
+                *next = Some(next.map_or(tick, |k| k.min(tick)));
+            }
             self.tp.on_rx_frame(tick, f);
         }
         self.rx_scratch = frames;
