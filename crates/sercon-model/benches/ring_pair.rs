@@ -11,94 +11,23 @@
 // (tests/pair_horizons.rs).
 #[path = "support/pair_loop.rs"]
 mod pair_loop;
+// The two chips, shared with the same test.
+#[path = "support/pair_setup.rs"]
+mod pair_setup;
 
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group};
-use sercon_model::{Chip, ChipConfig};
-use sercon_regs::ram::container::ContainerControl;
-use sercon_regs::ram::header::{EndMarker, RxHeader, TxEnable, TxHeader};
-use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
+use sercon_regs::SerconBus;
 use sercos_wire::time::{Duration, Instant};
 
 use pair_loop::Pair;
-
-/// 410B §4.1 0CH.0 MSTEN, 0CH.1 MSTMASTER, 0CH.10 CYCSTART; 3H.8 ENTMT; 1H.3 REPON.
-const MSTEN: u16 = 1 << 0;
-const MSTMASTER: u16 = 1 << 1;
-const CYCSTART: u16 = 1 << 10;
-const ENTMT: u16 = 1 << 8;
-const REPON: u16 = 1 << 3;
-
-/// A SERCON816 (16 Mbit/s by its straps, 816 §2.3.1) whose time unit is 0.5 µs and whose
-/// cycle is 125 units.
-fn chip() -> Chip {
-    let mut c = Chip::new(ChipConfig::sercon816());
-    // 410B §4.1 0EH MCLKDIV: 32 MHz / 16 = 2 MHz, a 0.5 µs unit.
-    c.write(Register::MclkDiv, 15);
-    c.write(Register::Tscyc0, 125);
-    c
-}
-
-fn control(len: u16) -> u16 {
-    ContainerControl::new(len, false, 0, false, true).map_or(0, |c| c.to_word())
-}
-
-/// Transmit at `at` (TRT `trt`, 8 words, single buffer, data at `at + 5`), then the end
-/// marker or the next header at `at + 13`.
-fn tx_block(c: &mut Chip, at: u16, adr: u8, trt: u16, pt: u16) {
-    let h = TxHeader {
-        adr,
-        en: TxEnable::Continuous,
-        trt,
-        tlen: 8,
-        pt,
-        ..TxHeader::default()
-    };
-    c.write_ram_words(at, &h.to_words(Variant::Sercon816));
-    c.write_ram(at + 4, control(8));
-    let data: Vec<u16> = (0..8).map(|i| 0x1000 * u16::from(adr & 0xF) + i).collect();
-    c.write_ram_words(at + 5, &data);
-}
-
-/// Receive header at `at` with one 8-word container (data at `at + 7`).
-fn rx_block(c: &mut Chip, at: u16, adr: u8, trt: u16, pt: u16) {
-    let h = RxHeader {
-        adr,
-        achk: true,
-        trt,
-        tlen: 8,
-        pt,
-        ..RxHeader::default()
-    };
-    c.write_ram_words(at, &h.to_words(Variant::Sercon816));
-    c.write_ram_words(at + 5, &[control(8), 0]);
-}
+use pair_setup::{Shape, chips};
 
 /// The master and the slave in phase 4, cycles running.
 fn pair() -> Pair {
-    let mut m = chip();
-    let mut s = chip();
-    // Master: COMPT0 → MDT (TRT 2 units after the MST) → AT → end marker.
-    m.write_ram(0, 16);
-    tx_block(&mut m, 16, 255, 2, 29);
-    rx_block(&mut m, 29, 1, 40, 44);
-    m.write_ram_words(44, &EndMarker::default().to_words());
-    // Slave: COMPT0 → MDT → AT (TRT 40 units = 20 µs after the MST) → end marker.
-    s.write_ram(0, 16);
-    rx_block(&mut s, 16, 255, 2, 31);
-    tx_block(&mut s, 31, 1, 40, 44);
-    s.write_ram_words(44, &EndMarker::default().to_words());
-    s.write(Register::Phas, 0xFF04);
-    s.write(Register::Ctrl3, ENTMT);
-    s.write(Register::Ctrl0C, MSTEN);
-    // The master ends the ring: no repeater.
-    let c1 = m.read(Register::Ctrl1);
-    m.write(Register::Ctrl1, c1 & !REPON);
-    m.write(Register::Phas, 0x0404);
-    m.write(Register::Ctrl3, ENTMT);
-    m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
-    Pair::new([m, s], Duration::from_micros(1))
+    let shape = Shape::BENCH;
+    Pair::new(chips(shape), Duration::from_nanos(shape.delay_ns))
 }
 
 fn bench(c: &mut Criterion) {
