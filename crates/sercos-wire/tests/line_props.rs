@@ -66,6 +66,26 @@ proptest! {
         prop_assert_eq!(v.inverted().inverted(), v);
     }
 
+    /// `BitVec::from_bits` (a byte at a time) copies any slice of bits exactly, padding 0.
+    #[test]
+    fn from_bits_copies_any_slice(
+        bits in proptest::collection::vec(any::<bool>(), 0..200),
+        a in 0usize..200,
+        b in 0usize..200,
+    ) {
+        let mut v = BitVec::new();
+        for x in &bits {
+            v.push(*x);
+        }
+        let (from, to) = (a.min(b).min(bits.len()), a.max(b).min(bits.len()));
+        let slice = v.bits().slice(from, to).expect("in range");
+        let mut want = BitVec::new();
+        for x in &bits[from..to] {
+            want.push(*x);
+        }
+        prop_assert_eq!(BitVec::from_bits(slice), want);
+    }
+
     #[test]
     fn bit_writer_equals_bit_vec(config in config(), telegrams in stream()) {
         let mut vec = BitVec::new();

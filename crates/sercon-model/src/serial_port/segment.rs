@@ -19,7 +19,7 @@
 
 use std::rc::Rc;
 
-use sercos_wire::line::{BitVec, Bits};
+use sercos_wire::line::BitVec;
 use sercos_wire::time::{Duration, Instant};
 
 /// How the line interface shares a segment's bits and a hint's telegram between the sender,
@@ -186,8 +186,7 @@ impl LineSegment {
                 let from = usize::try_from(skip).ok()?;
                 let to = usize::try_from(b.len()).ok()?;
                 let rest = b.bits().slice(from, to)?;
-                let mut out = BitVec::with_capacity(to - from);
-                extend(&mut out, rest);
+                let out = BitVec::from_bits(rest);
                 Some(LineSegment {
                     start: self
                         .start
@@ -208,13 +207,6 @@ impl LineSegment {
                 distorted: self.distorted,
             }),
         }
-    }
-}
-
-/// Appends the bits of `bits` to `out`.
-fn extend(out: &mut BitVec, bits: Bits<'_>) {
-    for b in bits.iter() {
-        out.push(b);
     }
 }
 

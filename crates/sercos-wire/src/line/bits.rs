@@ -228,6 +228,35 @@ impl BitVec {
         let _ = self.put(u32::from(bit), 1);
     }
 
+    /// A copy of the bits of `bits` (a byte at a time, whatever their offset; the padding
+    /// is 0).
+    pub fn from_bits(bits: Bits<'_>) -> BitVec {
+        let (src, start, len) = bits.raw();
+        let first = start / 8;
+        let shift = (start % 8) as u32;
+        let n = len.div_ceil(8);
+        let byte = |i: usize| src.get(i).copied().unwrap_or(0);
+        let mut bytes: alloc::vec::Vec<u8> = (first..first + n)
+            .map(|i| {
+                if shift == 0 {
+                    byte(i)
+                } else {
+                    (byte(i) << shift) | (byte(i + 1) >> (8 - shift))
+                }
+            })
+            .collect();
+        let rem = (len % 8) as u32;
+        if rem != 0
+            && let Some(last) = bytes.last_mut()
+        {
+            *last &= !(0xFFu8 >> rem);
+        }
+        BitVec {
+            bytes,
+            len: len as u64,
+        }
+    }
+
     /// The same bits, each inverted (a byte at a time; the padding stays 0).
     pub fn inverted(&self) -> BitVec {
         let mut bytes: alloc::vec::Vec<u8> = self.bytes.iter().map(|b| !b).collect();
