@@ -672,6 +672,14 @@ impl Master {
         if let Some(sc) = self.sc.as_mut() {
             sc.init(bus);
         }
+        self.forget_ring();
+        self.state = State::Phase0 { closed: 0 };
+    }
+
+    /// Forgets what the master knew of the ring's drives and telegrams (which drives
+    /// answered, the service lanes, the cyclic image, the host-run channel, the addressed
+    /// drive); a tool's running request goes back to the front of its queue.
+    fn forget_ring(&mut self) {
         for d in &mut self.drives {
             d.status.answered = false;
         }
@@ -682,7 +690,6 @@ impl Master {
         self.addressed = None;
         self.previous = None;
         self.addressed_nsv = None;
-        self.state = State::Phase0 { closed: 0 };
     }
 
     // ----- per cycle ---------------------------------------------------------------------
@@ -1569,16 +1576,7 @@ impl HostProgram for Master {
                 if !matches!(self.state, State::Idle) {
                     self.restarts = self.restarts.saturating_add(1);
                 }
-                self.lanes.clear();
-                self.requeue_tool();
-                self.cyclic = None;
-                self.host_sc = None;
-                self.addressed = None;
-                self.previous = None;
-                self.addressed_nsv = None;
-                for d in &mut self.drives {
-                    d.status.answered = false;
-                }
+                self.forget_ring();
                 if let Err(error) = self.start(bus) {
                     self.halt(error);
                 }
