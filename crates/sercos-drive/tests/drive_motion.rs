@@ -25,13 +25,6 @@ fn phased_up() -> EmulatedDrive {
     drive
 }
 
-fn mdt_record(control: u16, velocity_rpm_e4: i32) -> Vec<u8> {
-    let mut record = control.to_le_bytes().to_vec();
-    record.extend([0, 0]);
-    record.extend(velocity_rpm_e4.to_le_bytes());
-    record
-}
-
 #[test]
 fn follows_velocity_with_lag_when_on_enabled_restart() {
     let mut drive = phased_up();
@@ -46,7 +39,7 @@ fn follows_velocity_with_lag_when_on_enabled_restart() {
         now += cycle;
         assert!(
             drive
-                .receive_mdt_record(now, &mdt_record(0xE000, 10_000_000))
+                .receive_mdt_record(now, &support::velocity_record(0xE000, 10_000_000))
                 .is_ok()
         );
     }
@@ -70,7 +63,7 @@ fn follows_velocity_with_lag_when_on_enabled_restart() {
         now += cycle;
         assert!(
             drive
-                .receive_mdt_record(now, &mdt_record(0xC000, 10_000_000))
+                .receive_mdt_record(now, &support::velocity_record(0xC000, 10_000_000))
                 .is_ok()
         );
     }
@@ -88,14 +81,14 @@ fn simulated_fault_is_a_class_1_error_until_reset() {
     let mut now = Instant::ZERO + Duration::from_millis(2);
     assert!(
         drive
-            .receive_mdt_record(now, &mdt_record(0xE000, 10_000_000))
+            .receive_mdt_record(now, &support::velocity_record(0xE000, 10_000_000))
             .is_ok()
     );
     write(&mut drive, "P-0-0003", &[1]);
     now += Duration::from_millis(2);
     assert!(
         drive
-            .receive_mdt_record(now, &mdt_record(0xE000, 10_000_000))
+            .receive_mdt_record(now, &support::velocity_record(0xE000, 10_000_000))
             .is_ok()
     );
     // AT status word bit 13 and ready-to-operate 00 on a class 1 error.

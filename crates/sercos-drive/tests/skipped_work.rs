@@ -10,7 +10,7 @@ use sercos_drive::drive::EmulatedDrive;
 use sercos_drive::parameter::Parameter;
 use sercos_wire::attribute::Value;
 use sercos_wire::idn::Idn;
-use sercos_wire::telegram::{CommunicationPhase, ReadyToOperate};
+use sercos_wire::telegram::ReadyToOperate;
 use sercos_wire::time::{Duration, Instant};
 use support::{idn, write};
 
@@ -20,20 +20,8 @@ const DIAGNOSTIC_MESSAGE: Idn = Idn::from_raw(95);
 /// IDN 15) and velocity control (S-0-0032 = 2).
 fn phase_4_drive() -> EmulatedDrive {
     let mut drive = support::in_phase_2_with(&[("S-0-0015", &[2]), ("S-0-0032", &[2])]);
-    write(&mut drive, "S-0-0127", &[3]);
-    assert!(drive.set_phase(CommunicationPhase::Phase3).is_ok());
-    write(&mut drive, "S-0-0127", &[0]);
-    write(&mut drive, "S-0-0128", &[3]);
-    assert!(drive.set_phase(CommunicationPhase::Phase4).is_ok());
-    write(&mut drive, "S-0-0128", &[0]);
+    support::step_to_phase_4(&mut drive);
     drive
-}
-
-fn record(control: u16, velocity: i32) -> Vec<u8> {
-    let mut bytes = control.to_le_bytes().to_vec();
-    bytes.extend([0, 0]);
-    bytes.extend(velocity.to_le_bytes());
-    bytes
 }
 
 fn snapshot(drive: &EmulatedDrive) -> (Vec<(Idn, Vec<u16>)>, u16, f64, f64) {
@@ -57,7 +45,7 @@ fn advancing_twice_to_one_instant_is_advancing_once() {
         now += Duration::from_micros(250);
         let control = if step < 10 { 0xE000 } else { 0xC000 };
         assert!(
-            once.receive_mdt_record(now, &record(control, 5_000_000))
+            once.receive_mdt_record(now, &support::velocity_record(control, 5_000_000))
                 .is_ok()
         );
         let mut twice = once.clone();
@@ -72,7 +60,11 @@ fn advancing_twice_to_one_instant_is_advancing_once() {
 fn a_write_between_two_advances_to_one_instant_is_taken() {
     let mut drive = phase_4_drive();
     let now = Instant::ZERO + Duration::from_millis(1);
-    assert!(drive.receive_mdt_record(now, &record(0xE000, 0)).is_ok());
+    assert!(
+        drive
+            .receive_mdt_record(now, &support::velocity_record(0xE000, 0))
+            .is_ok()
+    );
     drive.advance_to(now);
     let before = drive.axis().command();
     // S-0-0036 in 4 decimal places: 100 rpm, written through the database at the same
@@ -81,7 +73,11 @@ fn a_write_between_two_advances_to_one_instant_is_taken() {
     drive.advance_to(now);
     assert_ne!(drive.axis().command(), before);
     // A control word without drive-on at the same instant: the status word follows too.
-    assert!(drive.receive_mdt_record(now, &record(0x0000, 0)).is_ok());
+    assert!(
+        drive
+            .receive_mdt_record(now, &support::velocity_record(0x0000, 0))
+            .is_ok()
+    );
     drive.advance_to(now);
     assert_eq!(
         drive.status_word().ready_to_operate(),
@@ -176,7 +172,7 @@ proptest! {
             match s {
                 Step::Record { micros, control, velocity } => {
                     now += Duration::from_micros(*micros);
-                    let r = record(*control, *velocity);
+                    let r = support::velocity_record(*control, *velocity);
                     prop_assert_eq!(kept.receive_mdt_record(now, &r).is_ok(), fresh.receive_mdt_record(now, &r).is_ok());
                 }
                 Step::Write { name, words } => {

@@ -50,3 +50,23 @@ pub fn in_phase_2_with(writes: &[(&str, &[u16])]) -> EmulatedDrive {
     }
     drive
 }
+
+/// Steps a drive in phase 2 to phase 4, each step after its transition check (S-0-0127 for
+/// phase 3, S-0-0128 for phase 4, set and then cancelled; sercos-facts.md).
+pub fn step_to_phase_4(drive: &mut EmulatedDrive) {
+    write(drive, "S-0-0127", &[3]);
+    assert!(drive.set_phase(CommunicationPhase::Phase3).is_ok());
+    write(drive, "S-0-0127", &[0]);
+    write(drive, "S-0-0128", &[3]);
+    assert!(drive.set_phase(CommunicationPhase::Phase4).is_ok());
+    write(drive, "S-0-0128", &[0]);
+}
+
+/// An MDT record of telegram type 2: control word, two bytes of service info (0), then the
+/// velocity command S-0-0036 (little endian, as on the line).
+pub fn velocity_record(control: u16, velocity: i32) -> Vec<u8> {
+    let mut bytes = control.to_le_bytes().to_vec();
+    bytes.extend([0, 0]);
+    bytes.extend(velocity.to_le_bytes());
+    bytes
+}
