@@ -14,7 +14,7 @@
 use sercon_regs::SerconBus;
 use sercon_regs::Variant;
 use sercon_regs::ram::service::{SC_CONTROL_WORDS, ScMaster};
-use sercon_regs::ram::service_rules::ScBufferWindow;
+use sercon_regs::ram::service_rules::{ScAtBits, ScBufferWindow};
 use sercos_wire::address::DriveAddress;
 use sercos_wire::telegram::{ControlWord, StatusWord};
 use sercos_wire::time::{Duration, Instant};
@@ -288,58 +288,15 @@ fn take_at(slot: &ContainerSlot, ram: &mut SoftRam, m: &mut ScMaster, record: &[
         m.recerr = true;
         return;
     };
-    let was_acknowledged = m.is_acknowledged();
-    let command_change = status & StatusWord::COMMAND_CHANGE != 0;
-    // 410B §4.2.4 INT_CMD: "Slave has set command modification bit".
-    if command_change && !m.cmd_at {
-        m.int_cmd = true;
-    }
-    // 410B §4.2.4 HS_AT, BUSY_AT, ERR_AT, CMD_AT from AT status word bits 0, 1, 2, 5.
-    m.hs_at = status & StatusWord::AHS != 0;
-    m.busy_at = status & StatusWord::BUSY != 0;
-    m.err_at = status & StatusWord::SERVICE_CHANNEL_ERROR != 0;
-    m.cmd_at = command_change;
-    let now_acknowledged = m.is_acknowledged();
-    if was_acknowledged && !now_acknowledged {
-        // 410B §4.2.4 INT_SC_ERR: the slave withdrew an acknowledgement.
-        m.int_sc_err = true;
-        m.m_busy = true;
-        return;
-    }
-    if was_acknowledged || !now_acknowledged {
-        return;
-    }
-    if m.err_at {
-        // 410B §4.2.4 INT_ERR: the error code is kept at RDDATPT.
-        m.int_err = true;
-        m.m_busy = true;
-        store_info(
-            slot,
-            ram,
-            m.pointers.read_window(),
-            m.ninfo_read.count(),
-            info,
-        );
-        return;
-    }
-    if m.ls_mdt {
-        let window = m.pointers.write_window();
-        let count = m.ninfo_write.count();
-        m.pointers.wrdatpt = window.advanced(count);
-        if window.is_final(count) {
-            // 410B §4.2.4 INT_END_WRBUF.
-            m.int_end_wrbuf = true;
-            m.m_busy = true;
-        }
-    } else {
-        let window = m.pointers.read_window();
-        let count = m.ninfo_read.count();
+    // 410B §4.2.4 master table, the rules shared with the chip's container (sercon-regs);
+    // HS_AT, BUSY_AT, ERR_AT, CMD_AT from AT status word bits 0, 1, 2, 5.
+    let taken = m.take_at(ScAtBits {
+        ahs: status & StatusWord::AHS != 0,
+        busy: status & StatusWord::BUSY != 0,
+        error: status & StatusWord::SERVICE_CHANNEL_ERROR != 0,
+        command_change: status & StatusWord::COMMAND_CHANGE != 0,
+    });
+    if let Some((window, count)) = taken.info_to {
         store_info(slot, ram, window, count, info);
-        m.pointers.rddatpt = window.advanced(count);
-        if window.is_final(count) {
-            // 410B §4.2.4 INT_END_RDBUF.
-            m.int_end_rdbuf = true;
-            m.m_busy = true;
-        }
     }
 }

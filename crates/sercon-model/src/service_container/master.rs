@@ -2,7 +2,7 @@
 //! and takes the AT's (410B §4.2.4, master table).
 
 use sercon_regs::ram::service::ScMaster;
-use sercon_regs::ram::service_rules::ScStepTimeout;
+use sercon_regs::ram::service_rules::{ScAtBits, ScAtInterrupt, ScStepTimeout};
 
 use super::buffer::{copy_in, copy_out};
 use super::container_ram::ContainerRam;
@@ -70,66 +70,29 @@ fn take_at(
     info: &[u16],
     out: &mut ScOutcome,
 ) {
-    let was_acknowledged = m.is_acknowledged();
-
-    // 410B §4.2.4 INT_CMD: "Slave has set command modification bit" (a 0 → 1 change).
-    if at.command_change && !m.cmd_at {
-        m.int_cmd = true;
+    // 410B §4.2.4 master table, the rules shared with a host-run container (sercon-regs).
+    let taken = m.take_at(ScAtBits {
+        ahs: at.ahs,
+        busy: at.busy,
+        error: at.error,
+        command_change: at.command_change,
+    });
+    if taken.int_cmd {
         out.raise(ScInterrupts::INT_CMD);
     }
-    // 410B §4.2.4 HS_AT, BUSY_AT, ERR_AT, CMD_AT: taken from the AT.
-    m.hs_at = at.ahs;
-    m.busy_at = at.busy;
-    m.err_at = at.error;
-    m.cmd_at = at.command_change;
-
-    let now_acknowledged = m.is_acknowledged();
-    if was_acknowledged && !now_acknowledged {
-        // 410B §4.2.4 INT_SC_ERR: protocol error — the slave withdrew an acknowledgement
-        // although MHS did not change (spec-notes).
-        m.int_sc_err = true;
-        m.m_busy = true;
-        out.raise(ScInterrupts::INT_SC_ERR);
-        return;
+    if taken.handshake {
+        out.handshake = true;
     }
-    if was_acknowledged || !now_acknowledged {
-        return;
+    if let Some(raised) = taken.raised {
+        out.raise(match raised {
+            ScAtInterrupt::ScErr => ScInterrupts::INT_SC_ERR,
+            ScAtInterrupt::Err => ScInterrupts::INT_ERR,
+            ScAtInterrupt::EndWrbuf => ScInterrupts::INT_END_WRBUF,
+            ScAtInterrupt::EndRdbuf => ScInterrupts::INT_END_RDBUF,
+        });
     }
-
-    // The present step is acknowledged.
-    out.handshake = true;
-    if at.error {
-        // 410B §4.2.4 INT_ERR: slave reports error. The error code (the info words) is
-        // kept in the read buffer at RDDATPT without advancing it (spec-notes).
-        m.int_err = true;
-        m.m_busy = true;
-        out.raise(ScInterrupts::INT_ERR);
-        out.info_words = copy_in(m.pointers.read_window(), ram, m.ninfo_read.count(), info);
-        return;
-    }
-    if m.ls_mdt {
-        // Write: the words at WRDATPT have arrived; move on by NINFO_WRITE.
-        let window = m.pointers.write_window();
-        let count = m.ninfo_write.count();
-        m.pointers.wrdatpt = window.advanced(count);
-        if window.is_final(count) {
-            // 410B §4.2.4 INT_END_WRBUF: end of write buffer is reached.
-            m.int_end_wrbuf = true;
-            m.m_busy = true;
-            out.raise(ScInterrupts::INT_END_WRBUF);
-        }
-    } else {
-        // Read: NINFO_READ info words of the AT go to the read buffer at RDDATPT.
-        let window = m.pointers.read_window();
-        let count = m.ninfo_read.count();
+    if let Some((window, count)) = taken.info_to {
         out.info_words = copy_in(window, ram, count, info);
-        m.pointers.rddatpt = window.advanced(count);
-        if window.is_final(count) {
-            // 410B §4.2.4 INT_END_RDBUF: end of read buffer is reached.
-            m.int_end_rdbuf = true;
-            m.m_busy = true;
-            out.raise(ScInterrupts::INT_END_RDBUF);
-        }
     }
 }
 

@@ -83,6 +83,52 @@ pub enum ScStepTimeout {
     Busy,
 }
 
+/// The AT's service bits a master-mode container takes (410B §4.2.4 HS_AT, BUSY_AT, ERR_AT,
+/// CMD_AT; sercos-telegrams.md AT status word bits 0, 1, 2, 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct ScAtBits {
+    /// Bit 0: AHS, the slave's handshake toggle bit.
+    pub ahs: bool,
+    /// Bit 1: busy, step in progress.
+    pub busy: bool,
+    /// Bit 2: error in the service channel.
+    pub error: bool,
+    /// Bit 5: change bit commands.
+    pub command_change: bool,
+}
+
+/// The interrupt a step raised when the AT's service bits were taken (410B §4.2.4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ScAtInterrupt {
+    /// INT_SC_ERR: the slave withdrew an acknowledgement.
+    #[doc(alias = "INT_SC_ERR")]
+    ScErr,
+    /// INT_ERR: the slave reports an error.
+    #[doc(alias = "INT_ERR")]
+    Err,
+    /// INT_END_WRBUF: the end of the write buffer is reached.
+    #[doc(alias = "INT_END_WRBUF")]
+    EndWrbuf,
+    /// INT_END_RDBUF: the end of the read buffer is reached.
+    #[doc(alias = "INT_END_RDBUF")]
+    EndRdbuf,
+}
+
+/// What taking an AT's service bits did ([`ScMaster::take_at`]), for the caller to raise its
+/// interrupts and move the info words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ScAtTaken {
+    /// INT_CMD was set (CMD_AT went from 0 to 1).
+    pub int_cmd: bool,
+    /// The present step was acknowledged by this AT.
+    pub handshake: bool,
+    /// The step's interrupt, if it raised one.
+    pub raised: Option<ScAtInterrupt>,
+    /// Where the AT's info words go: the read buffer window and the word count (the window
+    /// as it was before the step moved RDDATPT on).
+    pub info_to: Option<(ScBufferWindow, u8)>,
+}
+
 impl ScMaster {
     /// The handshake rule: the present step is acknowledged when HS_AT equals HS_MDT and
     /// BUSY_AT is 0 (sercos-telegrams.md AT status word bits 0-1; reading of 410B §4.2.4
@@ -124,6 +170,74 @@ impl ScMaster {
         self.err_cnt = 0;
         self.busy_cnt = false;
         true
+    }
+
+    /// Takes the AT's service bits into the container and, when they acknowledge the present
+    /// step, finishes it (410B §4.2.4 master table): INT_CMD on CMD_AT 0 → 1; INT_SC_ERR when
+    /// an acknowledgement is withdrawn; on an acknowledged step INT_ERR with the error code
+    /// kept at RDDATPT (not advanced), or WRDATPT / RDDATPT moved on by NINFO and
+    /// INT_END_WRBUF / INT_END_RDBUF on the final step. M_BUSY is set with every interrupt
+    /// the microprocessor must act on (spec-notes "Service containers").
+    pub fn take_at(&mut self, at: ScAtBits) -> ScAtTaken {
+        let mut taken = ScAtTaken::default();
+        let was_acknowledged = self.is_acknowledged();
+        // 410B §4.2.4 INT_CMD: "Slave has set command modification bit" (a 0 → 1 change).
+        if at.command_change && !self.cmd_at {
+            self.int_cmd = true;
+            taken.int_cmd = true;
+        }
+        // 410B §4.2.4 HS_AT, BUSY_AT, ERR_AT, CMD_AT: taken from the AT.
+        self.hs_at = at.ahs;
+        self.busy_at = at.busy;
+        self.err_at = at.error;
+        self.cmd_at = at.command_change;
+        let now_acknowledged = self.is_acknowledged();
+        if was_acknowledged && !now_acknowledged {
+            // 410B §4.2.4 INT_SC_ERR: protocol error — the slave withdrew an acknowledgement
+            // although MHS did not change (spec-notes).
+            self.int_sc_err = true;
+            self.m_busy = true;
+            taken.raised = Some(ScAtInterrupt::ScErr);
+            return taken;
+        }
+        if was_acknowledged || !now_acknowledged {
+            return taken;
+        }
+        taken.handshake = true;
+        if at.error {
+            // 410B §4.2.4 INT_ERR: slave reports error; the error code (the info words) is
+            // kept in the read buffer at RDDATPT without advancing it (spec-notes).
+            self.int_err = true;
+            self.m_busy = true;
+            taken.raised = Some(ScAtInterrupt::Err);
+            taken.info_to = Some((self.pointers.read_window(), self.ninfo_read.count()));
+            return taken;
+        }
+        if self.ls_mdt {
+            // Write: the words at WRDATPT have arrived; move on by NINFO_WRITE.
+            let window = self.pointers.write_window();
+            let count = self.ninfo_write.count();
+            self.pointers.wrdatpt = window.advanced(count);
+            if window.is_final(count) {
+                // 410B §4.2.4 INT_END_WRBUF: end of write buffer is reached.
+                self.int_end_wrbuf = true;
+                self.m_busy = true;
+                taken.raised = Some(ScAtInterrupt::EndWrbuf);
+            }
+        } else {
+            // Read: NINFO_READ info words of the AT go to the read buffer at RDDATPT.
+            let window = self.pointers.read_window();
+            let count = self.ninfo_read.count();
+            taken.info_to = Some((window, count));
+            self.pointers.rddatpt = window.advanced(count);
+            if window.is_final(count) {
+                // 410B §4.2.4 INT_END_RDBUF: end of read buffer is reached.
+                self.int_end_rdbuf = true;
+                self.m_busy = true;
+                taken.raised = Some(ScAtInterrupt::EndRdbuf);
+            }
+        }
+        taken
     }
 
     /// Counts one communication cycle of an unacknowledged step in ERR_CNT / BUSY_CNT and
@@ -293,5 +407,50 @@ mod tests {
         m.busy_at = false;
         assert_eq!(m.count_cycle(1, 1), None);
         assert_eq!(m.err_cnt, 1);
+    }
+
+    // 410B §4.2.4 master table: an acknowledged read step stores NINFO_READ words at RDDATPT
+    // and moves it on, INT_END_RDBUF with M_BUSY on the final one; a withdrawn
+    // acknowledgement is INT_SC_ERR; an error answer keeps RDDATPT (INT_ERR).
+    #[test]
+    fn taking_the_at_finishes_or_flags_the_step() {
+        let read = ScMaster {
+            hs_mdt: true,
+            ninfo_read: NInfo::from_code(1),
+            pointers: ScPointers {
+                wrdatpt: 5,
+                wrdatlast: 5,
+                rddatpt: 5,
+                rddatlast: 6,
+            },
+            ..ScMaster::default()
+        };
+        let ack = ScAtBits {
+            ahs: true,
+            ..ScAtBits::default()
+        };
+        let mut m = read;
+        let taken = m.take_at(ack);
+        assert!(taken.handshake);
+        assert_eq!(taken.info_to, Some((window(5, 6), 2)));
+        assert_eq!(taken.raised, Some(ScAtInterrupt::EndRdbuf));
+        assert!(m.int_end_rdbuf && m.m_busy);
+        assert_eq!(m.pointers.rddatpt, 7);
+        // Taking the same AT again changes nothing; taking it away is a protocol error.
+        assert_eq!(m.take_at(ack), ScAtTaken::default());
+        let withdrawn = m.take_at(ScAtBits::default());
+        assert_eq!(withdrawn.raised, Some(ScAtInterrupt::ScErr));
+        assert!(m.int_sc_err);
+        // An error answer: the code goes to RDDATPT, which stays.
+        let mut m = read;
+        let taken = m.take_at(ScAtBits {
+            error: true,
+            command_change: true,
+            ..ack
+        });
+        assert!(taken.int_cmd && m.int_cmd && m.cmd_at);
+        assert_eq!(taken.raised, Some(ScAtInterrupt::Err));
+        assert_eq!(taken.info_to, Some((window(5, 6), 2)));
+        assert_eq!(m.pointers.rddatpt, 5);
     }
 }
