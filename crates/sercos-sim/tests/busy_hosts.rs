@@ -10,36 +10,9 @@
 mod ring_support;
 
 use ring_support::*;
-use sercon_regs::SerconBus;
 use sercos_sim::static_ring::StaticRing;
-use sercos_sim::{Delivery, HostProgram, Wake};
-use sercos_wire::time::{BitRate, Duration, Instant};
-
-/// A static ring's host that, from its first deadline on, reads `accesses` RAM words every
-/// `period` (0 accesses: the same wakes, an idle bus).
-struct ReadingHost {
-    inner: Box<dyn HostProgram>,
-    period: Duration,
-    accesses: u16,
-}
-
-impl HostProgram for ReadingHost {
-    fn wake(&mut self, bus: &mut dyn SerconBus, now: Instant, why: Wake) -> Option<Instant> {
-        match why {
-            Wake::Start | Wake::PowerOn => {
-                self.inner.wake(bus, now, why);
-                Some(now.saturating_add(self.period))
-            }
-            Wake::Deadline => {
-                for a in 0..self.accesses {
-                    let _ = bus.read_ram(a);
-                }
-                Some(now.saturating_add(self.period))
-            }
-            Wake::Interrupt { .. } => None,
-        }
-    }
-}
+use sercos_sim::{Delivery, HostProgram};
+use sercos_wire::time::{BitRate, Duration};
 
 /// The text log and the late count of `ring` run for `cycles` cycles with hosts reading
 /// `accesses` words each period (every host at the same instants).

@@ -9,38 +9,13 @@ mod ring_support;
 
 use ring_support::*;
 use sercon_regs::value::interrupt::IntFlagsLo;
-use sercon_regs::{Register, SerconBus, SerconBusExt};
+use sercon_regs::{Register, SerconBusExt};
 use sercos_sim::static_ring::StaticRing;
-use sercos_sim::{Delivery, HostProgram, Simulation, Wake};
-use sercos_wire::time::{BitRate, Duration, Instant};
+use sercos_sim::{Delivery, HostProgram, Simulation};
+use sercos_wire::time::{BitRate, Duration};
 
 /// Bus accesses of one busy host run: 200 × 100 ns = 20 µs, as long as a driver's cycle work.
-const BUSY_ACCESSES: u32 = 200;
-
-/// A static ring's host that, once per cycle and at a different point of the cycle each
-/// time, reads RAM for a while (a driver handling its cycle).
-struct BusyHost {
-    inner: Box<dyn HostProgram>,
-    period: Duration,
-}
-
-impl HostProgram for BusyHost {
-    fn wake(&mut self, bus: &mut dyn SerconBus, now: Instant, why: Wake) -> Option<Instant> {
-        match why {
-            Wake::Start | Wake::PowerOn => {
-                self.inner.wake(bus, now, why);
-                Some(now.saturating_add(self.period))
-            }
-            Wake::Deadline => {
-                for i in 0..BUSY_ACCESSES {
-                    let _ = bus.read_ram(u16::try_from(i).unwrap_or(0));
-                }
-                Some(now.saturating_add(self.period))
-            }
-            Wake::Interrupt { .. } => None,
-        }
-    }
-}
+const BUSY_ACCESSES: u16 = 200;
 
 /// Runs an intact ring of 8 slaves with busy hosts for `cycles` cycles and checks that no
 /// node latched INT_FIBBR after the start and no segment came late.
@@ -55,7 +30,13 @@ fn intact_ring_stays_lit(rate: BitRate, cycle_us: u16, delivery: Delivery, cycle
     let period = cycle.saturating_add(Duration::from_nanos(3_300));
     let hosts: Vec<Box<dyn HostProgram>> = hosts
         .into_iter()
-        .map(|inner| Box::new(BusyHost { inner, period }) as Box<dyn HostProgram>)
+        .map(|inner| {
+            Box::new(ReadingHost {
+                inner,
+                period,
+                accesses: BUSY_ACCESSES,
+            }) as Box<dyn HostProgram>
+        })
         .collect();
     let mut sim = Simulation::new(cfg, hosts).expect("a valid ring");
     // Dark until the first signal arrives (spec-notes "Serial port"): FIBBR after reset.

@@ -8,7 +8,7 @@ use sercon_regs::{SerconBus, Variant};
 use sercos_sim::recorder::TraceOutput;
 use sercos_sim::static_ring::{RingPlan, StaticRing};
 use sercos_sim::trace::LogFormat;
-use sercos_sim::{SimConfig, Simulation};
+use sercos_sim::{HostProgram, SimConfig, Simulation, Wake};
 use sercos_wire::time::{Duration, Instant};
 
 /// One line of the text log.
@@ -84,4 +84,33 @@ pub fn rx_header(chip: &mut Chip, at: u16) -> RxHeader {
 /// `n` RAM words from `at`.
 pub fn words(chip: &mut Chip, at: u16, n: u16) -> Vec<u16> {
     (0..n).map(|i| chip.read_ram(at + i)).collect()
+}
+
+/// A static ring's host that, from its first deadline on, reads `accesses` RAM words every
+/// `period` (0 accesses: the same wakes, an idle bus).
+pub struct ReadingHost {
+    /// The static ring's own host (it lays out the RAM at the start).
+    pub inner: Box<dyn HostProgram>,
+    /// Time between two busy spells.
+    pub period: Duration,
+    /// RAM words read per spell (100 ns each at the default bus cost).
+    pub accesses: u16,
+}
+
+impl HostProgram for ReadingHost {
+    fn wake(&mut self, bus: &mut dyn SerconBus, now: Instant, why: Wake) -> Option<Instant> {
+        match why {
+            Wake::Start | Wake::PowerOn => {
+                self.inner.wake(bus, now, why);
+                Some(now.saturating_add(self.period))
+            }
+            Wake::Deadline => {
+                for a in 0..self.accesses {
+                    let _ = bus.read_ram(a);
+                }
+                Some(now.saturating_add(self.period))
+            }
+            Wake::Interrupt { .. } => None,
+        }
+    }
 }
