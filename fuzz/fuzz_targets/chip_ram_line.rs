@@ -13,11 +13,9 @@
 
 #![no_main]
 
-use std::sync::Arc;
-
 use libfuzzer_sys::fuzz_target;
 use sercon_model::pins::PinSet;
-use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal};
+use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
 use sercon_model::{Chip, ChipConfig};
 use sercon_regs::SerconBus;
 use sercos_wire::line::BitVec;
@@ -79,14 +77,14 @@ fuzz_target!(|data: &[u8]| {
                                 bits.push(byte >> (7 - i) & 1 == 1);
                             }
                         }
-                        LineSignal::Bits(Arc::new(bits))
+                        LineSignal::Bits(Shared::new(bits))
                     }
                     1 => LineSignal::Filler,
                     2 => LineSignal::Dark,
                     _ => LineSignal::Light,
                 };
                 let hint = (a & 0x10 != 0 && !payload.is_empty()).then(|| FrameHint {
-                    telegram: Arc::from(payload),
+                    telegram: Shared::from(payload),
                     offset: u64::from(a >> 5),
                 });
                 let seg = LineSegment {
@@ -101,7 +99,8 @@ fuzz_target!(|data: &[u8]| {
                 chip.line_input(seg);
             }
             2 => {
-                let step = Duration::from_nanos(100 * (u64::from(u16::from_be_bytes([*b, *c])) + 1));
+                let step =
+                    Duration::from_nanos(100 * (u64::from(u16::from_be_bytes([*b, *c])) + 1));
                 let t = chip.now().saturating_add(step);
                 chip.advance_to(t);
                 chip.take_line_output(&mut out);

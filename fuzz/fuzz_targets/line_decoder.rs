@@ -11,7 +11,11 @@ fuzz_target!(|data: &[u8]| {
     let Some((&head, signal)) = data.split_first() else {
         return;
     };
-    let coding = if head & 1 == 0 { Coding::Nrzi } else { Coding::Nrz };
+    let coding = if head & 1 == 0 {
+        Coding::Nrzi
+    } else {
+        Coding::Nrz
+    };
     let polarity = if head & 2 == 0 {
         Polarity::LightOnLow
     } else {
