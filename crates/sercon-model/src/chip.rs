@@ -48,7 +48,7 @@ pub struct Chip {
     /// processor's state again.
     pub(crate) tp_next: Option<Option<u64>>,
     /// Frames of one line input on their way to the telegram processor (reused).
-    pub(crate) rx_scratch: Vec<crate::serial_port::RxFrame>,
+    pub(crate) rx_scratch: Vec<crate::serial_port::HeardFrame>,
     /// Last traced levels of DMAREQR / DMAREQT in static mode, and the tick of the last
     /// traced pulse in pulsed mode (410B §2 pins 38, 39; §4.1 1H.14 DMAMODE).
     pub(crate) dma_trace: [(bool, Option<u64>); 2],
@@ -215,7 +215,7 @@ impl Chip {
 
     /// The next instant at which the engine, the telegram processor or the serial port
     /// has something to do (what [`Chip::advance_to`] would process).
-    fn next_internal(&self) -> Option<Instant> {
+    pub(crate) fn next_internal(&self) -> Option<Instant> {
         let core = match self.next_core {
             Some(cached) => cached,
             None => self.compute_next_core(),

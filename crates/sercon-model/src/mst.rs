@@ -9,10 +9,11 @@ use sercon_regs::Register;
 use sercon_regs::ram::NMSTERR;
 
 use crate::chip::Chip;
+use crate::serial_port::HeardFrame;
 use crate::telegram_processor::status::{
     INT_MSTEARLY, INT_MSTLATE, INT_MSTMIS, INT_PHAS0, INT_PHASERR,
 };
-use crate::telegram_processor::{self as tp, RxFrame, reg25};
+use crate::telegram_processor::{self as tp, reg25};
 
 /// Sends the MST at cycle-start tick `tick`; returns the tick of its end (the reference
 /// for TRT).
@@ -46,7 +47,7 @@ fn tscyc_us(chip: &Chip) -> u64 {
 }
 
 /// An MST ended at `tick` (slave): phase, time check, cycle synchronisation.
-pub(crate) fn mst_end(chip: &mut Chip, tick: u64, frame: &RxFrame) {
+pub(crate) fn mst_end(chip: &mut Chip, tick: u64, frame: &HeardFrame) {
     let s = chip.engine.s;
     if !s.is_sercos_slave() || !frame.fcs_ok {
         // A master only times its own MST; an errored MST counts as missing when its

@@ -59,11 +59,23 @@ impl Pair {
             };
             let horizon = [0, 1]
                 .map(|i| sends(1 - i).map_or(until, |l| before(l.saturating_add(d)).min(until)));
+            // Whether chip 1 was handed segments in this round (then its `e` is stale).
+            let mut fed = false;
             for (i, h) in horizon.into_iter().enumerate() {
                 let c = &mut self.chips[i];
+                // Nothing of this chip is due up to `h` (no event, no output to release): the
+                // advance would only move its time, which a later one does as well (an
+                // advance with nothing due changes nothing else; `Chip::next_event_at`), so
+                // it is left out. Both chips cannot skip in one round: that needs
+                // `e_1 + d ≤ e_0` and `e_0 + d ≤ e_1`. The last advance, to `until`, is kept.
+                let idle = h < until && !(i == 1 && fed) && e[i].is_none_or(|n| n > h);
+                if idle {
+                    continue;
+                }
                 c.advance_to(h);
                 c.take_line_output(&mut self.buf);
                 let to = &mut self.chips[1 - i];
+                fed |= !self.buf.is_empty();
                 for seg in self.buf.drain(..) {
                     if let Some(log) = self.log.as_mut() {
                         log.push((i, seg.clone()));

@@ -30,12 +30,20 @@ impl Chip {
         // port (read from its queues, not cached).
         // A scratch list kept between inputs: no allocation per segment.
         let mut frames = std::mem::take(&mut self.rx_scratch);
+        let now = self.now;
+        // Whether nothing can be due at `now` after this input (then the advance to `now`
+        // below would only return): the next instant is known, the segment starts after
+        // `now` (how a conservative simulation hands segments over), so its status changes
+        // do too, and so does every frame it completes (checked below: a frame may have
+        // begun in an earlier segment).
+        let mut quiet = seg.start > now && self.next_core.is_some();
         self.serial.line_input(seg, &mut frames);
         // The telegram processor takes every frame the receiver saw (contract with tp).
         for f in frames.drain(..) {
             let tick = self.clock.tick_at_or_after(f.start);
             if let Some(core) = self.next_core.as_mut() {
                 let at = self.clock.instant(tick);
+                quiet &= at > now;
                 *core = Some(core.map_or(at, |c| c.min(at)));
             }
             if let Some(next) = self.tp_next.as_mut() {
@@ -49,7 +57,13 @@ impl Chip {
         // receiver or on queued frames: a line input changes none of them at once (its
         // status changes and interrupts follow in `advance_to`), so they are not recomputed.
         debug_assert_eq!(self.engine.levels, self.engine.compute_levels());
-        let now = self.now;
+        if quiet {
+            debug_assert!(
+                self.next_internal().is_none_or(|n| n > now),
+                "a line input ahead of time made something due at once"
+            );
+            return;
+        }
         self.advance_to(now);
     }
 

@@ -41,9 +41,6 @@ pub const REPEATER_LATENCY_BITS: u64 = 2;
 /// Frames kept for [`crate::Chip::take_rx_frames`] (the newest; older ones are dropped).
 pub const RX_LOG_FRAMES: usize = 4096;
 
-/// Byte buffers of finished frames kept for reuse.
-const SPARE_BUFFERS: usize = 16;
-
 /// A telegram the receiver saw, known as soon as its line segment was handed to the chip.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RxFrame {
@@ -58,6 +55,22 @@ pub struct RxFrame {
     pub fcs_ok: bool,
 }
 
+/// A frame as the receiver hands it to the telegram processor and the receive log: an
+/// [`RxFrame`] whose bytes are shared. A telegram with a [`FrameHint`] shares the sender's
+/// bytes (no copy per receiver and log); a decoded one owns its own.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct HeardFrame {
+    /// First bit of the opening flag.
+    pub(crate) start: Instant,
+    /// End of the closing flag (or of the bit that broke the frame).
+    pub(crate) end: Instant,
+    /// Telegram bytes (ADR and data, FCS stripped); for a broken frame, the whole bytes
+    /// received.
+    pub(crate) bytes: Shared<[u8]>,
+    /// The frame ended with a flag and its FCS matched.
+    pub(crate) fcs_ok: bool,
+}
+
 /// The serial port of one chip.
 #[derive(Debug, Clone)]
 pub(crate) struct SerialPort {
@@ -67,8 +80,6 @@ pub(crate) struct SerialPort {
     events: LineEvents,
     /// The receive log (the newest [`RX_LOG_FRAMES`]).
     rx_log: rx_log::RxLog,
-    /// Byte buffers of frames the chip has finished with, reused for new frames.
-    spare: Vec<Vec<u8>>,
     /// Level at pin IDLE (410B §2, active low).
     idle: bool,
     /// Level at pin REACTN (410B §2, active low).
@@ -108,7 +119,6 @@ impl SerialPort {
             rx: Receiver::new(at, timeout),
             events: LineEvents::default(),
             rx_log: rx_log::RxLog::default(),
-            spare: Vec::new(),
             idle: true,
             reactn: true,
             fibbr: false,
@@ -190,7 +200,7 @@ impl SerialPort {
 
     /// Receives one segment of the line input; the frames it completes go to `frames` (and
     /// to the log).
-    pub(crate) fn line_input(&mut self, seg: LineSegment, frames: &mut Vec<RxFrame>) {
+    pub(crate) fn line_input(&mut self, seg: LineSegment, frames: &mut Vec<HeardFrame>) {
         let first = frames.len();
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
         let fwd = (self.cfg.tx_mode == TxMode::Repeat).then(|| self.forwarded(seg.clone()));
@@ -200,7 +210,6 @@ impl SerialPort {
             Sinks {
                 events: &mut self.events,
                 frames,
-                spare: &mut self.spare,
             },
         );
         for f in frames.iter().skip(first) {
@@ -248,15 +257,6 @@ impl SerialPort {
     /// Starts of the queued background output segments, in order.
     pub(crate) fn background_output_starts(&self) -> impl Iterator<Item = Instant> + '_ {
         self.tx.background_starts()
-    }
-
-    /// Takes back the byte buffer of a frame the chip has finished with.
-    pub(crate) fn recycle(&mut self, mut bytes: Vec<u8>) {
-        // A few suffice: a handful of frames are in flight at a time.
-        if self.spare.len() < SPARE_BUFFERS {
-            bytes.clear();
-            self.spare.push(bytes);
-        }
     }
 
     /// Moves the received frames to the end of `out`.

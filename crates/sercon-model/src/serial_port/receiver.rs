@@ -7,8 +7,9 @@ use sercos_wire::time::{Duration, Instant};
 
 use super::line_events::{Change, LineEvents};
 use super::port_config::PortConfig;
+use super::segment::Shared;
 use super::segment::{LineSegment, LineSignal};
-use super::{FIBBR_BIT_TIMES, RxFrame};
+use super::{FIBBR_BIT_TIMES, HeardFrame};
 use crate::serial_settings::RxdCoding;
 
 /// Line bits of a flag (the opening flag is complete 8 bits after its first bit).
@@ -44,9 +45,7 @@ pub(crate) struct Receiver {
 /// Where decoded frames go.
 pub(crate) struct Sinks<'a> {
     pub(crate) events: &'a mut LineEvents,
-    pub(crate) frames: &'a mut Vec<RxFrame>,
-    /// Byte buffers of frames already processed, for reuse (no allocation per frame).
-    pub(crate) spare: &'a mut Vec<Vec<u8>>,
+    pub(crate) frames: &'a mut Vec<HeardFrame>,
 }
 
 impl Receiver {
@@ -95,11 +94,7 @@ impl Receiver {
 
     /// Takes one segment of the line input (light levels) at or after the previous one.
     pub(crate) fn input(&mut self, seg: LineSegment, cfg: &PortConfig, sinks: Sinks<'_>) {
-        let Sinks {
-            events,
-            frames,
-            spare,
-        } = sinks;
+        let Sinks { events, frames } = sinks;
         let own_bt = cfg.bit_time.unwrap_or(seg.bit_time);
         self.timeout = own_bt.saturating_mul(FIBBR_BIT_TIMES);
         let prev_level = self.last.as_ref().is_some_and(|l| l.level_at(seg.start));
@@ -178,14 +173,12 @@ impl Receiver {
                     let start = seg
                         .start
                         .saturating_add(seg.bit_time.saturating_mul(hint.offset));
-                    let mut bytes = spare.pop().unwrap_or_default();
-                    bytes.clear();
-                    bytes.extend_from_slice(&hint.telegram);
+                    // The hint's bytes are the telegram's: shared, not copied.
                     deliver(
-                        RxFrame {
+                        HeardFrame {
                             start,
                             end,
-                            bytes,
+                            bytes: hint.telegram.clone(),
                             fcs_ok: true,
                         },
                         seg.bit_time,
@@ -229,7 +222,7 @@ impl Receiver {
         prev_level: bool,
         cfg: &PortConfig,
         events: &mut LineEvents,
-        frames: &mut Vec<RxFrame>,
+        frames: &mut Vec<HeardFrame>,
     ) {
         let LineSignal::Bits(bits) = &seg.signal else {
             return;
@@ -254,16 +247,16 @@ impl Receiver {
         let mut found = Vec::new();
         run.decoder.push(bits.bits(), |d| {
             let frame = match d {
-                Decoded::Telegram(f) => RxFrame {
+                Decoded::Telegram(f) => HeardFrame {
                     start: at(f.start),
                     end: at(f.end),
-                    bytes: f.bytes.to_vec(),
+                    bytes: Shared::from(f.bytes),
                     fcs_ok: true,
                 },
-                Decoded::Error { error, received } => RxFrame {
+                Decoded::Error { error, received } => HeardFrame {
                     start: at(error.start()),
                     end: at(error_end(&error)),
-                    bytes: received.to_vec(),
+                    bytes: Shared::from(received),
                     fcs_ok: false,
                 },
             };
@@ -289,7 +282,12 @@ fn error_end(error: &LineError) -> u64 {
 /// Schedules REACTN for `frame` and hands it on.
 // 410B §2 REACTN: "Indicates that the serial receiver is receiving a telegram": low from the
 // recognised opening flag to the end of the frame (spec-notes "Serial port").
-fn deliver(frame: RxFrame, bit_time: Duration, events: &mut LineEvents, frames: &mut Vec<RxFrame>) {
+fn deliver(
+    frame: HeardFrame,
+    bit_time: Duration,
+    events: &mut LineEvents,
+    frames: &mut Vec<HeardFrame>,
+) {
     let low = frame
         .start
         .saturating_add(bit_time.saturating_mul(FLAG_BITS))

@@ -32,6 +32,7 @@ use fifo::DmaFifos;
 pub(crate) use fifo::FifoState;
 use status::{INT_PROGERR, INT_RWAIT, ProgErr};
 
+use crate::serial_port::HeardFrame;
 /// A frame the receiver saw: the serial port's [`RxFrame`], handed to the processor as
 /// soon as its line segment reaches the chip.
 pub use crate::serial_port::RxFrame;
@@ -103,7 +104,7 @@ pub(crate) enum RxRole {
 /// A frame whose start has passed.
 #[derive(Debug, Clone)]
 pub(crate) struct RxNow {
-    pub(crate) frame: RxFrame,
+    pub(crate) frame: HeardFrame,
     pub(crate) end_tick: u64,
     pub(crate) role: RxRole,
 }
@@ -129,7 +130,7 @@ pub(crate) struct TelegramProcessor {
     pub(crate) pending_block: Option<(u64, u8)>,
     /// Frames delivered ahead of time, ordered by start, each with the MCLK tick of its
     /// start (computed once when queued: the event loop asks for it on every turn).
-    pub(crate) rx_queue: VecDeque<(u64, RxFrame)>,
+    pub(crate) rx_queue: VecDeque<(u64, HeardFrame)>,
     pub(crate) rx_now: Option<RxNow>,
     /// End of the telegram being sent (3H.9 FLTMT while `Some`).
     pub(crate) tx_end: Option<u64>,
@@ -247,7 +248,7 @@ impl TelegramProcessor {
     /// Queues a frame the receiver saw (contract with `serial_port`): processed at its
     /// start and end.
     /// `start_tick` is the first MCLK tick at or after the frame's start.
-    pub(crate) fn on_rx_frame(&mut self, start_tick: u64, frame: RxFrame) {
+    pub(crate) fn on_rx_frame(&mut self, start_tick: u64, frame: HeardFrame) {
         // Keep the queue ordered by start; frames normally arrive in order.
         if self
             .rx_queue

@@ -34,9 +34,8 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
         accept(chip, tick, &frame.bytes)
     };
     if role == RxRole::Ignored {
-        // Its end would change nothing (`frame_end` of an ignored frame only frees the
-        // bytes, and nothing else asks for an ignored frame in progress): no event for it.
-        chip.serial.recycle(frame.bytes);
+        // Its end would change nothing (nothing asks for an ignored frame in progress): no
+        // event for it.
         return;
     }
     chip.tp.rx_now = Some(RxNow {
@@ -118,8 +117,6 @@ pub(super) fn frame_end(chip: &mut Chip, tick: u64) {
             finish(chip, tick, at, hdr, &now.frame.bytes, now.frame.fcs_ok);
         }
     }
-    // The bytes' buffer serves a later frame.
-    chip.serial.recycle(now.frame.bytes);
 }
 
 /// Completes the receive telegram of header `at` with `bytes` (ADR + data).
