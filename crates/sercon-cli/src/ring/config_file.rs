@@ -4,6 +4,7 @@
 //! variant = "816"          # "816" or "410b"
 //! baud = 16                # Mbit/s: 2, 4, 8, 16
 //! cycle_us = 1000          # tScyc, S-0-0002
+//! telegram_type = 7        # S-0-0015: 0-6 standard, 7 configured (default)
 //! seconds = 3              # phase-4 operation (a number of seconds or "1500ms")
 //! seed = 1
 //! return_fibre_m = 10      # last drive → master
@@ -64,6 +65,7 @@ struct FileRepr {
     variant: Option<Spanned<String>>,
     baud: Option<Spanned<i64>>,
     cycle_us: Option<Spanned<i64>>,
+    telegram_type: Option<Spanned<i64>>,
     seconds: Option<Spanned<toml::Value>>,
     phase_up_limit: Option<Spanned<toml::Value>>,
     seed: Option<Spanned<i64>>,
@@ -163,6 +165,10 @@ pub fn parse_config(text: &str, path: &Path) -> Result<RingSpec, ConfigError> {
     }
     if let Some(v) = &file.cycle_us {
         spec.cycle_us = int(v, 62, 65_000, "cycle_us")? as u32;
+    }
+    if let Some(v) = &file.telegram_type {
+        // sercos-facts.md S-0-0015: 0-6 standard telegrams, 7 configured.
+        spec.telegram_type = int(v, 0, 7, "telegram_type")? as u16;
     }
     let duration = |v: &Spanned<toml::Value>, what: &str| {
         let text = match v.get_ref() {
@@ -290,6 +296,22 @@ mod tests {
         assert_eq!((spec.drives[0].address, spec.drives[0].fibre_m), (5, 30));
         assert_eq!(spec.drives[1].fibre_m, DEFAULT_FIBRE_M);
         assert_eq!(spec.faults.len(), 1);
+        assert_eq!(
+            spec.telegram_type,
+            sercdrv::master::TELEGRAM_TYPE_CONFIGURED,
+            "default: configured (7)"
+        );
+    }
+
+    #[test]
+    fn telegram_type_is_read_and_checked() {
+        // sercos-facts.md S-0-0015: 0-6 standard, 7 configured.
+        let spec = parse_config("telegram_type = 3\n", Path::new("ring.toml")).expect("valid");
+        assert_eq!(spec.telegram_type, 3);
+        assert_eq!(
+            err("baud = 16\ntelegram_type = 8\n"),
+            "ring.toml:2:17: telegram_type 8 is not 0-7"
+        );
     }
 
     #[test]
