@@ -264,6 +264,62 @@ pub struct Station {
     pub events: Vec<SlaveEvent>,
 }
 
+impl Station {
+    /// Drive `address` with its container 0 at 200H, `buffer` words per buffer and `ninfo`
+    /// info words per record.
+    pub fn new(variant: Variant, address: DriveAddress, buffer: u16, ninfo: NInfo) -> Station {
+        let sslot = ContainerSlot::new(variant, 0, 0x200, buffer)
+            .expect("slot")
+            .with_ninfo(ninfo);
+        let mut bus = RamBus::new(variant);
+        let mut server = ServiceChannelSlave::new(sslot);
+        server.init(&mut bus);
+        Station {
+            address,
+            bus,
+            server,
+            store: TestStore::standard(),
+            nsv: 0,
+            silent: false,
+            asleep: false,
+            events: Vec::new(),
+        }
+    }
+
+    /// The drive's chip takes `mdt` (MDT control word and info words) into its container
+    /// and gives its AT record (status word and info words), `None` when it is silent
+    /// (410B §4.2.4 slave table).
+    pub fn exchange(&mut self, variant: Variant, mdt: &[u16]) -> Option<Vec<u16>> {
+        let out = on_receive(
+            &mut self.bus.ram,
+            variant,
+            self.nsv,
+            ScMode::Slave,
+            mdt,
+            true,
+        );
+        raise(&mut self.bus, self.nsv, out.int_sc);
+        let mut at = vec![0u16; mdt.len()];
+        at[0] = 0xC000;
+        on_transmit(&mut self.bus.ram, variant, self.nsv, ScMode::Slave, &mut at);
+        (!self.silent).then_some(at)
+    }
+
+    /// The drive's processor reacts to its INT_SC_n bits (unless asleep).
+    pub fn react(&mut self) {
+        if self.asleep {
+            return;
+        }
+        let flags = sercon_regs::IntFlagsHi::from_bits_retain(self.bus.regs[5]);
+        let events = self
+            .server
+            .on_interrupt(&mut self.bus, &mut self.store, flags);
+        self.events.extend(events);
+        let change = self.store.command_change();
+        self.server.set_command_change(&mut self.bus, change);
+    }
+}
+
 /// One master chip and its drives, one master container per drive.
 pub struct Ring {
     pub variant: Variant,
@@ -310,22 +366,7 @@ impl Ring {
                 .with_ninfo(ninfo);
             slots.push((slot, Wiring::Drive(address)));
             master_nsv.push(nsv);
-            let sslot = ContainerSlot::new(variant, 0, 0x200, buffer)
-                .expect("slot")
-                .with_ninfo(ninfo);
-            let mut bus = RamBus::new(variant);
-            let mut server = ServiceChannelSlave::new(sslot);
-            server.init(&mut bus);
-            stations.push(Station {
-                address,
-                bus,
-                server,
-                store: TestStore::standard(),
-                nsv: 0,
-                silent: false,
-                asleep: false,
-                events: Vec::new(),
-            });
+            stations.push(Station::new(variant, address, buffer, ninfo));
         }
         let mut master = RamBus::new(variant);
         let mut client = ServiceChannelMaster::new(slots);
@@ -350,24 +391,13 @@ impl Ring {
     /// One communication cycle: records exchanged, then the hosts react.
     pub fn cycle(&mut self) {
         let v = self.variant;
+        let words = self.record_words;
         for (station, &mnsv) in self.stations.iter_mut().zip(&self.master_nsv) {
-            let mut mdt = vec![0u16; self.record_words];
+            let mut mdt = vec![0u16; words];
             mdt[0] = 0xE000;
             let out = on_transmit(&mut self.master.ram, v, mnsv, ScMode::Master, &mut mdt);
             raise(&mut self.master, mnsv, out.int_sc);
-            let out = on_receive(
-                &mut station.bus.ram,
-                v,
-                station.nsv,
-                ScMode::Slave,
-                &mdt,
-                true,
-            );
-            raise(&mut station.bus, station.nsv, out.int_sc);
-            let mut at = vec![0u16; self.record_words];
-            at[0] = 0xC000;
-            on_transmit(&mut station.bus.ram, v, station.nsv, ScMode::Slave, &mut at);
-            if !station.silent {
+            if let Some(at) = station.exchange(v, &mdt) {
                 let out = on_receive(&mut self.master.ram, v, mnsv, ScMode::Master, &at, true);
                 raise(&mut self.master, mnsv, out.int_sc);
             }
@@ -382,16 +412,7 @@ impl Ring {
             raise(&mut self.master, mnsv, out.int_sc);
         }
         for station in &mut self.stations {
-            if station.asleep {
-                continue;
-            }
-            let flags = sercon_regs::IntFlagsHi::from_bits_retain(station.bus.regs[5]);
-            let events = station
-                .server
-                .on_interrupt(&mut station.bus, &mut station.store, flags);
-            station.events.extend(events);
-            let change = station.store.command_change();
-            station.server.set_command_change(&mut station.bus, change);
+            station.react();
         }
         let flags = sercon_regs::IntFlagsHi::from_bits_retain(self.master.regs[5]);
         let done = self.client.on_interrupt(&mut self.master, flags, self.now);
