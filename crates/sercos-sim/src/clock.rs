@@ -26,18 +26,23 @@ struct Piece {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct NodeClock {
     pieces: Vec<Piece>,
+    /// Local time equals simulation time at every instant (kept with `pieces`: the
+    /// simulation converts times several times per event, and most clocks are exact).
+    identity: bool,
 }
 
 impl NodeClock {
     /// A clock with a constant error of `ppb` parts per billion (clamped to
     /// ±[`MAX_ERROR_PPB`]) from time 0, where both times are 0.
     pub fn new(ppb: i64) -> Self {
+        let ppb = ppb.clamp(-MAX_ERROR_PPB, MAX_ERROR_PPB);
         NodeClock {
             pieces: vec![Piece {
                 global: 0,
                 local: 0,
-                ppb: ppb.clamp(-MAX_ERROR_PPB, MAX_ERROR_PPB),
+                ppb,
             }],
+            identity: ppb == 0,
         }
     }
 
@@ -57,13 +62,15 @@ impl NodeClock {
             local,
             ppb: ppb.clamp(-MAX_ERROR_PPB, MAX_ERROR_PPB),
         });
+        self.identity = self
+            .pieces
+            .iter()
+            .all(|p| p.ppb == 0 && p.local == p.global);
     }
 
     /// Whether local time equals simulation time at every instant (no error ever set).
     pub fn is_identity(&self) -> bool {
-        self.pieces
-            .iter()
-            .all(|p| p.ppb == 0 && p.local == p.global)
+        self.identity
     }
 
     fn piece_global(&self, g: u64) -> Piece {
@@ -91,6 +98,9 @@ impl NodeClock {
 
     /// The node's local time at simulation time `t` (rounded down).
     pub fn to_local(&self, t: Instant) -> Instant {
+        if self.identity {
+            return t;
+        }
         let g = t.as_picos();
         let p = self.piece_global(g);
         if p.ppb == 0 {
@@ -103,6 +113,9 @@ impl NodeClock {
 
     /// The first simulation time at which the node's local time has reached `local`.
     pub fn to_global(&self, local: Instant) -> Instant {
+        if self.identity {
+            return local;
+        }
         let l = local.as_picos();
         let p = self.piece_local(l);
         if p.ppb == 0 {
@@ -145,6 +158,22 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The identity shortcut holds exactly while every piece is exact: a clock set to 0 ppm
+    /// stays exact; one that ran off by a drift does not come back by a later 0 ppm.
+    #[test]
+    fn identity_only_while_every_piece_is_exact() {
+        let t = Instant::from_picos(123_456_789);
+        let mut c = NodeClock::new(0);
+        c.set_error_ppb(Instant::from_picos(1_000), 0);
+        assert!(c.is_identity());
+        assert_eq!((c.to_local(t), c.to_global(t)), (t, t));
+        c.set_error_ppb(Instant::from_picos(2_000_000), 50_000);
+        c.set_error_ppb(Instant::from_picos(90_000_000), 0);
+        assert!(!c.is_identity());
+        assert_ne!(c.to_local(t), t);
+        assert!(!NodeClock::new(1).is_identity());
     }
 
     #[test]

@@ -1,7 +1,5 @@
 //! A node: one controller model, the program on its host processor, and its own clock.
 
-use std::collections::VecDeque;
-
 use sercon_model::Chip;
 use sercon_model::pins::{Pin, PinSet};
 use sercon_model::serial_port::{LineSegment, LineSignal};
@@ -12,6 +10,10 @@ use sercos_wire::time::Instant;
 use crate::clock::NodeClock;
 use crate::config::NodeConfig;
 use crate::host::{HostProgram, NodeBus, Wake};
+
+mod expected_copies;
+
+pub(crate) use expected_copies::ExpectedCopies;
 
 /// 410B §4.1 1H.3 REPON.
 const REPON: u16 = 1 << 3;
@@ -39,7 +41,7 @@ pub(crate) struct Node {
     pub(crate) rewaking: bool,
     /// Forwarded segments the simulation already knows of: (local start at the output,
     /// originating node).
-    pub(crate) expect: VecDeque<(Instant, usize)>,
+    pub(crate) expect: ExpectedCopies,
     /// End of the last own telegram (local): the background resumes there.
     pub(crate) resume: Option<Instant>,
     /// The last segment on the output line (simulation time), when levels are followed.
@@ -58,6 +60,9 @@ pub(crate) struct Node {
     pub(crate) vcd: Option<usize>,
     /// The host is running (or has not started yet): it is not woken again meanwhile.
     pub(crate) host_busy: bool,
+    /// A segment was handed to the receiver since its frame log was last emptied (only a
+    /// line input logs frames).
+    pub(crate) rx_pending: bool,
 }
 
 impl Node {
@@ -78,7 +83,7 @@ impl Node {
             ints: (false, false),
             rewake: false,
             rewaking: false,
-            expect: VecDeque::new(),
+            expect: ExpectedCopies::default(),
             resume: None,
             last_out: None,
             track_levels: true,
@@ -88,6 +93,7 @@ impl Node {
             wake: None,
             vcd: None,
             host_busy: false,
+            rx_pending: false,
         }
     }
 
@@ -141,6 +147,20 @@ impl Node {
         } else {
             None
         }
+    }
+
+    /// Whether serving the node now would do nothing but take its output: no pin is traced,
+    /// no frame logged, and [`Node::host_due`] would find nothing (INT0/INT1 as the host
+    /// last saw them, no second wake pending, its deadline not passed).
+    pub(crate) fn nothing_to_serve(&self) -> bool {
+        self.vcd.is_none()
+            && !self.rx_pending
+            && !self.rewake
+            && self.host_deadline.is_none_or(|d| d > self.chip.now())
+            && (
+                self.chip.pin_level(Pin::Int0),
+                self.chip.pin_level(Pin::Int1),
+            ) == self.ints
     }
 
     /// After a wake for `why`: one more wake at most per pin change, in case a flag raised

@@ -200,7 +200,21 @@ impl Recorder {
     }
 
     /// Writes the records before `now` (nothing earlier can come any more).
+    #[inline]
     pub(crate) fn flush_before(&mut self, now: Instant) -> Result<(), SimError> {
+        // Called after every event: the usual answer (nothing due) without a call.
+        if self
+            .pending
+            .peek()
+            .is_none_or(|Reverse(top)| top.time >= now.as_picos())
+        {
+            return Ok(());
+        }
+        self.flush_due(now)
+    }
+
+    /// [`Recorder::flush_before`] when something is due.
+    fn flush_due(&mut self, now: Instant) -> Result<(), SimError> {
         while let Some(Reverse(top)) = self.pending.peek() {
             if top.time >= now.as_picos() {
                 break;

@@ -26,8 +26,12 @@ use crate::recorder::{Recorder, TraceOutput};
 use crate::topology::Topology;
 
 mod host_run;
+mod inverted_copies;
+#[cfg(test)]
+mod light_wake_tests;
 mod wake_queue;
 
+use inverted_copies::InvertedCopies;
 use wake_queue::WakeQueue;
 
 /// Rounds of "serve the nodes an event touched" per event before giving up on quiet.
@@ -104,6 +108,11 @@ pub struct Simulation {
     host_nesting: usize,
     /// The first error of events run inside a host's bus time, for `run_until` to return.
     held_error: Option<SimError>,
+    /// Inverted copies of delivered telegrams' bits, made once per telegram (`deliver`).
+    inverted: InvertedCopies,
+    /// Quiet wakes skip the touched list ([`Simulation::wake_node`]); off only in tests
+    /// that compare both ways.
+    light_wakes: bool,
 }
 
 /// How a node's next wake is found.
@@ -251,6 +260,8 @@ impl Simulation {
             lookahead: Lookahead::default(),
             host_nesting: 0,
             held_error: None,
+            inverted: InvertedCopies::default(),
+            light_wakes: true,
         };
         sim.start_hosts();
         sim.settle()?;
@@ -340,7 +351,14 @@ impl Simulation {
                 if let Some(node) = self.nodes.get_mut(j) {
                     node.wake = None;
                 }
-                self.advance_node(j, time);
+                if self.wake_node(j, time)? {
+                    // Served and rescheduled: one settle round is spent.
+                    self.settle_rounds(1)?;
+                    if let Some(e) = self.held_error.take() {
+                        return Err(e);
+                    }
+                    return self.recorder.flush_before(self.now);
+                }
             }
             Ev::FaultStart(i) => self.fault_start(i, time)?,
             Ev::FaultEnd(i) => self.fault_end(i, time)?,
@@ -371,6 +389,34 @@ impl Simulation {
         }
     }
 
+    /// Node `j`'s own wake at simulation time `t`: advances it (if powered) and serves it.
+    /// Most wakes are for an internal event of the chip (telegram processor windows, frame
+    /// starts and ends, transmit starts, timing control) after which its host has nothing
+    /// due, no pin events are traced and no frame was logged: such a wake only takes the
+    /// chip's output and sets its next wake, as `serve` would, without going through the
+    /// touched list (nothing else waits to be served then, so the order is the same).
+    /// Returns whether it did so (`false`: the node is touched or not powered).
+    fn wake_node(&mut self, j: usize, t: Instant) -> Result<bool, SimError> {
+        let quiet = self.light_wakes && self.touched.is_empty();
+        let Some(node) = self.nodes.get_mut(j) else {
+            return Ok(false);
+        };
+        if !node.powered {
+            return Ok(false);
+        }
+        let local = node.clock.to_local(t);
+        node.chip.advance_to(local);
+        if !quiet || !node.nothing_to_serve() {
+            self.touch(j);
+            return Ok(false);
+        }
+        // `serve_node` with nothing due but the output; `refresh_hop` would find what it
+        // found last (only hosts, power and clock faults change it, and they serve the node).
+        self.route_outputs(j);
+        self.reschedule(j)?;
+        Ok(true)
+    }
+
     /// Advances node `j` to simulation time `t` (if powered) and serves it.
     fn advance_node(&mut self, j: usize, t: Instant) {
         let Some(node) = self.nodes.get_mut(j) else {
@@ -387,7 +433,12 @@ impl Simulation {
     /// Serves the nodes an event touched (pins, hosts, outputs) until quiet, then
     /// reschedules them.
     fn settle(&mut self) -> Result<(), SimError> {
-        for _ in 0..MAX_SETTLE_ROUNDS {
+        self.settle_rounds(0)
+    }
+
+    /// [`Simulation::settle`] after `used` rounds of the event's budget.
+    fn settle_rounds(&mut self, used: usize) -> Result<(), SimError> {
+        for _ in used..MAX_SETTLE_ROUNDS {
             let Some(j) = self.touched.pop() else {
                 return Ok(());
             };
@@ -434,8 +485,20 @@ impl Simulation {
             }
         }
         // The receiver's frame log is for tools; emptied here it costs nothing to copy.
-        node.chip.take_rx_frames(&mut self.rx_frames);
-        self.rx_frames.clear();
+        // Only a line input logs frames (`deliver` marks the node).
+        if node.rx_pending {
+            node.chip.take_rx_frames(&mut self.rx_frames);
+            self.rx_frames.clear();
+            node.rx_pending = false;
+        }
+        self.route_outputs(j);
+    }
+
+    /// Takes what node `j`'s chip released to its output line and sends it on its way.
+    fn route_outputs(&mut self, j: usize) {
+        let Some(node) = self.nodes.get_mut(j) else {
+            return;
+        };
         let mut out = std::mem::take(&mut self.buf);
         node.chip.take_line_output(&mut out);
         for seg in out.drain(..) {
@@ -461,11 +524,11 @@ impl Simulation {
         let Some(node) = self.nodes.get_mut(j) else {
             return;
         };
-        while node.expect.front().is_some_and(|(s, _)| *s < seg.start) {
+        while node.expect.front().is_some_and(|(s, _)| s < seg.start) {
             node.expect.pop_front();
         }
         let mut origin = j;
-        if let Some(&(s, o)) = node.expect.front()
+        if let Some((s, o)) = node.expect.front()
             && s == seg.start
         {
             node.expect.pop_front();
@@ -543,11 +606,15 @@ impl Simulation {
                 || origin == 0
                 || !matches!(seg.signal, LineSignal::Bits(_) | LineSignal::Filler);
             let repeating = node.repeating && next != 0;
+            if !fast || !repeating {
+                // The last hop: the segment itself goes to the receiver.
+                if deliver {
+                    self.deliver(next, seg, origin, repeating);
+                }
+                return;
+            }
             if deliver {
                 self.deliver(next, seg.clone(), origin, repeating);
-            }
-            if !fast || !repeating {
-                return;
             }
             let Some(node) = self.nodes.get_mut(next) else {
                 return;
@@ -669,18 +736,19 @@ impl Simulation {
         if let (LineSignal::Bits(_), Some(last)) = (&local.signal, &node.last_in)
             && local.level_before != last.level_at(local.start)
         {
-            local = local.inverted();
+            local = self.inverted.invert(local);
         }
         node.last_in = Some(local.clone());
         if repeating {
             let lat = local.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
             node.expect
-                .push_back((local.start.saturating_add(lat), origin));
+                .push_back(local.start.saturating_add(lat), origin);
         }
         if local.start < node.chip.now() {
             self.stats.late += 1;
         }
         node.chip.line_input(local);
+        node.rx_pending = true;
         self.stats.deliveries += 1;
         self.touch(j);
     }
@@ -711,7 +779,7 @@ impl Simulation {
                 cand(node.chip.next_internal_event_at());
                 cand(
                     node.chip
-                        .next_line_output_except(node.expect.iter().map(|e| e.0)),
+                        .next_line_output_except(node.expect.starts().iter().copied()),
                 );
             } else {
                 if lookahead == Lookahead::Events {
@@ -823,6 +891,7 @@ impl Simulation {
                     let _ = v;
                 }
                 n.powered = true;
+                n.rx_pending = false;
                 n.expect.clear();
                 n.resume = None;
                 n.in_floor = local;

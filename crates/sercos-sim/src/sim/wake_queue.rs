@@ -7,6 +7,11 @@
 //! configuration gives the same run): earlier time first; at the same time the lower
 //! component, so every node before every fault; a fault's start before its end. A node has
 //! one wake at a time, so (time, node) is unique and no sequence number is needed.
+//!
+//! A node wake handed out by [`WakeQueue::pop_until`] stays at the heap's root until the
+//! next operation: the simulation almost always sets that node's next wake first, and a
+//! new key at the root is one sift down, where taking the root out and inserting the new
+//! key again cost a sift down and a sift up. Any other operation takes it out first.
 
 use sercos_wire::time::Instant;
 
@@ -44,6 +49,9 @@ pub(super) struct WakeQueue {
     faults: Vec<(u64, Ev)>,
     /// The next fault event not yet handed out.
     next_fault: usize,
+    /// A node whose wake [`WakeQueue::pop_until`] handed out while its entry still sits at
+    /// the heap's root (see the module notes).
+    popped: Option<usize>,
 }
 
 impl WakeQueue {
@@ -67,11 +75,21 @@ impl WakeQueue {
             pos: vec![ABSENT; nodes],
             faults,
             next_fault: 0,
+            popped: None,
+        }
+    }
+
+    /// Takes out the entry of a node handed out by `pop_until`, if still there.
+    #[inline]
+    fn settle_popped(&mut self) {
+        if let Some(j) = self.popped.take() {
+            self.remove_entry(j);
         }
     }
 
     /// The time of the next event, if any.
-    pub(super) fn peek_time(&self) -> Option<Instant> {
+    pub(super) fn peek_time(&mut self) -> Option<Instant> {
+        self.settle_popped();
         let wake = self.heap.first().map(|k| key_time(*k));
         let fault = self.faults.get(self.next_fault).map(|e| e.0);
         let t = match (wake, fault) {
@@ -82,7 +100,8 @@ impl WakeQueue {
     }
 
     /// The time of the next node wake, if any.
-    pub(super) fn peek_wake_time(&self) -> Option<Instant> {
+    pub(super) fn peek_wake_time(&mut self) -> Option<Instant> {
+        self.settle_popped();
         self.heap.first().map(|k| Instant::from_picos(key_time(*k)))
     }
 
@@ -95,6 +114,7 @@ impl WakeQueue {
 
     /// Takes the next event if it happens at or before `limit`.
     pub(super) fn pop_until(&mut self, limit: Instant) -> Option<(Instant, Ev)> {
+        self.settle_popped();
         let limit = limit.as_picos();
         let wake = self.heap.first().copied().filter(|k| key_time(*k) <= limit);
         let fault = self
@@ -106,7 +126,8 @@ impl WakeQueue {
             // At the same time a node (component < n) runs before any fault (n + i).
             (Some(k), f) if f.is_none_or(|f| key_time(k) <= f.0) => {
                 let j = key_node(k) as usize;
-                self.remove(j);
+                // Left at the root until the next operation (module notes).
+                self.popped = Some(j);
                 Some((Instant::from_picos(key_time(k)), Ev::Node(j)))
             }
             (_, Some((t, e))) => {
@@ -119,6 +140,12 @@ impl WakeQueue {
 
     /// Sets node `j`'s one pending wake to `at` (replacing any earlier one).
     pub(super) fn set(&mut self, j: usize, at: Instant) {
+        if self.popped == Some(j) {
+            // Its entry is at the root: the new key moves down from there (or stays).
+            self.popped = None;
+        } else {
+            self.settle_popped();
+        }
         let (Some(p), Ok(node)) = (self.pos.get(j).copied(), u32::try_from(j)) else {
             return;
         };
@@ -138,6 +165,16 @@ impl WakeQueue {
 
     /// Removes node `j`'s pending wake, if any.
     pub(super) fn remove(&mut self, j: usize) {
+        if self.popped == Some(j) {
+            self.popped = None;
+        } else {
+            self.settle_popped();
+        }
+        self.remove_entry(j);
+    }
+
+    /// Removes node `j`'s entry from the heap, if it has one.
+    fn remove_entry(&mut self, j: usize) {
         let Some(p) = self.pos.get_mut(j) else {
             return;
         };
@@ -298,5 +335,32 @@ mod tests {
                 assert_eq!(general.peek_time(), wakes.peek_time(), "seed {seed}");
             }
         }
+    }
+
+    /// A node handed out by `pop_until` has no wake any more, whatever comes next: a new
+    /// wake for it (moved down from the root), another node's wake, a removal, a peek.
+    #[test]
+    fn a_popped_node_has_no_wake_left() {
+        let t = Instant::from_picos;
+        let mut q = WakeQueue::new(4, Vec::new());
+        for (j, at) in [(0, 5), (1, 7), (2, 6), (3, 9)] {
+            q.set(j, t(at));
+        }
+        assert_eq!(q.pop_until(t(100)), Some((t(5), Ev::Node(0))));
+        // Its new wake goes past two others.
+        q.set(0, t(8));
+        assert_eq!(q.pop_until(t(100)), Some((t(6), Ev::Node(2))));
+        // Another node's wake first: node 2's old entry must not come back.
+        q.set(1, t(6));
+        assert_eq!(q.peek_time(), Some(t(6)));
+        assert_eq!(q.pop_until(t(100)), Some((t(6), Ev::Node(1))));
+        // Removing the popped node, then popping on.
+        q.remove(1);
+        assert_eq!(q.pop_until(t(100)), Some((t(8), Ev::Node(0))));
+        assert_eq!(q.peek_wake_time(), Some(t(9)));
+        assert_eq!(q.pop_until(t(8)), None);
+        assert_eq!(q.pop_until(t(9)), Some((t(9), Ev::Node(3))));
+        assert_eq!(q.pop_until(t(100)), None);
+        assert_eq!(q.peek_time(), None);
     }
 }
