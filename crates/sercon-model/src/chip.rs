@@ -47,8 +47,6 @@ pub struct Chip {
     /// the timing control that started no cycle, reuse it instead of walking the
     /// processor's state again.
     pub(crate) tp_next: Option<Option<u64>>,
-    /// Frames of one line input on their way to the telegram processor (reused).
-    pub(crate) rx_scratch: Vec<crate::serial_port::HeardFrame>,
     /// Last traced levels of DMAREQR / DMAREQT in static mode, and the tick of the last
     /// traced pulse in pulsed mode (410B §2 pins 38, 39; §4.1 1H.14 DMAMODE).
     pub(crate) dma_trace: [(bool, Option<u64>); 2],
@@ -87,7 +85,6 @@ impl Chip {
             serial,
             next_core: None,
             tp_next: None,
-            rx_scratch: Vec::new(),
             dma_trace: [(false, None); 2],
         }
     }

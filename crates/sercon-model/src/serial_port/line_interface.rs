@@ -28,8 +28,6 @@ impl Chip {
         // A line input leaves the timing control alone; it adds frames for the telegram
         // processor (which can only make its next tick earlier) and changes for the serial
         // port (read from its queues, not cached).
-        // A scratch list kept between inputs: no allocation per segment.
-        let mut frames = std::mem::take(&mut self.rx_scratch);
         let now = self.now;
         // Whether nothing can be due at `now` after this input (then the advance to `now`
         // below would only return): the next instant is known, the segment starts after
@@ -37,22 +35,27 @@ impl Chip {
         // do too, and so does every frame it completes (checked below: a frame may have
         // begun in an earlier segment).
         let mut quiet = seg.start > now && self.next_core.is_some();
-        self.serial.line_input(seg, &mut frames);
-        // The telegram processor takes every frame the receiver saw (contract with tp).
-        for f in frames.drain(..) {
-            let tick = self.clock.tick_at_or_after(f.start);
-            if let Some(core) = self.next_core.as_mut() {
-                let at = self.clock.instant(tick);
+        // The telegram processor takes every frame the receiver saw (contract with tp), as
+        // the receiver decodes it (no list in between: a frame is moved once).
+        let (clock, next_core, tp_next, tp) = (
+            &self.clock,
+            &mut self.next_core,
+            &mut self.tp_next,
+            &mut self.tp,
+        );
+        self.serial.line_input(seg, |f| {
+            let tick = clock.tick_at_or_after(f.start);
+            if let Some(core) = next_core.as_mut() {
+                let at = clock.instant(tick);
                 quiet &= at > now;
                 *core = Some(core.map_or(at, |c| c.min(at)));
             }
-            if let Some(next) = self.tp_next.as_mut() {
+            if let Some(next) = tp_next.as_mut() {
                 // The processor's next tick is the earlier of its own and the first frame's.
                 *next = Some(next.map_or(tick, |k| k.min(tick)));
             }
-            self.tp.on_rx_frame(tick, f);
-        }
-        self.rx_scratch = frames;
+            tp.on_rx_frame(tick, f);
+        });
         // The engine's pin levels (INT0/1, CONCLK, DIVCLK, WDOGN) do not depend on the
         // receiver or on queued frames: a line input changes none of them at once (its
         // status changes and interrupts follow in `advance_to`), so they are not recomputed.

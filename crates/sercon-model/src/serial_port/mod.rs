@@ -198,23 +198,24 @@ impl SerialPort {
         out
     }
 
-    /// Receives one segment of the line input; the frames it completes go to `frames` (and
-    /// to the log).
-    pub(crate) fn line_input(&mut self, seg: LineSegment, frames: &mut Vec<HeardFrame>) {
-        let first = frames.len();
+    /// Receives one segment of the line input; each frame it completes goes to the log and
+    /// then to `frames`, in order.
+    pub(crate) fn line_input<F: FnMut(HeardFrame)>(&mut self, seg: LineSegment, mut frames: F) {
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
         let fwd = (self.cfg.tx_mode == TxMode::Repeat).then(|| self.forwarded(seg.clone()));
+        let log = &mut self.rx_log;
+        let mut sink = |f: HeardFrame| {
+            log.push(&f);
+            frames(f);
+        };
         self.rx.input(
             seg,
             &self.cfg,
             Sinks {
                 events: &mut self.events,
-                frames,
+                frames: &mut sink,
             },
         );
-        for f in frames.iter().skip(first) {
-            self.rx_log.push(f);
-        }
         if let Some(fwd) = fwd {
             self.tx.push_background(fwd);
         }

@@ -43,9 +43,10 @@ pub(crate) struct Receiver {
 }
 
 /// Where decoded frames go.
-pub(crate) struct Sinks<'a> {
+pub(crate) struct Sinks<'a, F: FnMut(HeardFrame)> {
     pub(crate) events: &'a mut LineEvents,
-    pub(crate) frames: &'a mut Vec<HeardFrame>,
+    /// Takes every frame as soon as it is decoded (built in place: no list in between).
+    pub(crate) frames: &'a mut F,
 }
 
 impl Receiver {
@@ -93,7 +94,12 @@ impl Receiver {
     }
 
     /// Takes one segment of the line input (light levels) at or after the previous one.
-    pub(crate) fn input(&mut self, seg: LineSegment, cfg: &PortConfig, sinks: Sinks<'_>) {
+    pub(crate) fn input<F: FnMut(HeardFrame)>(
+        &mut self,
+        seg: LineSegment,
+        cfg: &PortConfig,
+        sinks: Sinks<'_, F>,
+    ) {
         let Sinks { events, frames } = sinks;
         let own_bt = cfg.bit_time.unwrap_or(seg.bit_time);
         self.timeout = own_bt.saturating_mul(FIBBR_BIT_TIMES);
@@ -216,13 +222,13 @@ impl Receiver {
     }
 
     /// Decodes an explicit bit segment, continuing the previous one if it is contiguous.
-    fn decode(
+    fn decode<F: FnMut(HeardFrame)>(
         &mut self,
         seg: &LineSegment,
         prev_level: bool,
         cfg: &PortConfig,
         events: &mut LineEvents,
-        frames: &mut Vec<HeardFrame>,
+        frames: &mut F,
     ) {
         let LineSignal::Bits(bits) = &seg.signal else {
             return;
@@ -282,11 +288,14 @@ fn error_end(error: &LineError) -> u64 {
 /// Schedules REACTN for `frame` and hands it on.
 // 410B §2 REACTN: "Indicates that the serial receiver is receiving a telegram": low from the
 // recognised opening flag to the end of the frame (spec-notes "Serial port").
-fn deliver(
+// Inlined: the frame is built by the caller and moved on to the processor's queue; as a call of
+// its own it was read back just after being written (a store-forwarding stall, pair3).
+#[inline(always)]
+fn deliver<F: FnMut(HeardFrame)>(
     frame: HeardFrame,
     bit_time: Duration,
     events: &mut LineEvents,
-    frames: &mut Vec<HeardFrame>,
+    frames: &mut F,
 ) {
     let low = frame
         .start
@@ -294,7 +303,7 @@ fn deliver(
         .min(frame.end);
     events.push(low, Change::Reactn(false));
     events.push(frame.end, Change::Reactn(true));
-    frames.push(frame);
+    frames(frame);
 }
 
 /// The decoder configuration for light-level input.

@@ -233,7 +233,11 @@ impl Transmitter {
     }
 
     fn emit(&mut self, seg: LineSegment) {
-        self.last_out = Some(LineSegment {
+        // Stored first, then copied from where it lies: `seg` was built just before the
+        // call, and reading it twice (for the copy and for the store) waited twice on the
+        // stores that built it (store forwarding; `docs/performance.md`, "Controller pair").
+        self.released.push(seg);
+        self.last_out = self.released.last().map(|seg| LineSegment {
             start: seg.start,
             bit_time: seg.bit_time,
             signal: seg.signal.clone(),
@@ -242,7 +246,6 @@ impl Transmitter {
             distorted: seg.distorted,
         });
         self.last_is_bg = false;
-        self.released.push(seg);
     }
 
     /// Whether no released segment waits to be taken.
