@@ -34,6 +34,9 @@ mod wake_queue;
 use inverted_copies::InvertedCopies;
 use wake_queue::WakeQueue;
 
+/// `Simulation::plain_hop` of a node a slave telegram does not pass by delays alone.
+const NOT_PLAIN: u64 = u64::MAX;
+
 /// Rounds of "serve the nodes an event touched" per event before giving up on quiet.
 const MAX_SETTLE_ROUNDS: usize = 1024;
 
@@ -102,8 +105,10 @@ pub struct Simulation {
     /// fibre into k has no fault, is not traced and keeps nothing; k has no power windows.
     static_plain: Vec<bool>,
     /// `static_plain` and, now, k is a powered repeating slave whose clock is the
-    /// simulation's: a slave's telegram passes k by a sum of delays (fast path).
-    plain_hop: Vec<bool>,
+    /// simulation's: a slave's telegram passes k by a sum of delays (fast path). Then the
+    /// delay of the fibre into k in ps, so that the hop loop reads one dense table;
+    /// [`NOT_PLAIN`] otherwise (a fibre that long is taken hop by hop, to the same result).
+    plain_hop: Vec<u64>,
     /// Hosts running inside other hosts' bus time (`host_run`).
     host_nesting: usize,
     /// The first error of events run inside a host's bus time, for `run_until` to return.
@@ -240,7 +245,7 @@ impl Simulation {
                 .min()
                 .filter(|d| *d > Duration::ZERO),
             seg_delays: seg_delays.clone(),
-            plain_hop: vec![false; n],
+            plain_hop: vec![NOT_PLAIN; n],
             static_plain,
             topology: cfg.topology,
             delivery: cfg.delivery,
@@ -514,8 +519,16 @@ impl Simulation {
                 .nodes
                 .get(k)
                 .is_some_and(|n| n.powered && n.repeating && n.clock.is_identity());
+        let up = k
+            .checked_sub(1)
+            .unwrap_or(self.seg_delays.len().saturating_sub(1));
+        let delay = self
+            .seg_delays
+            .get(up)
+            .filter(|_| plain)
+            .map_or(NOT_PLAIN, |d| d.as_picos());
         if let Some(p) = self.plain_hop.get_mut(k) {
-            *p = plain;
+            *p = delay;
         }
     }
 
@@ -637,30 +650,35 @@ impl Simulation {
     /// floor), leaving `*cur` at the last of them.
     fn pass_plain(&mut self, cur: &mut usize, seg: &mut LineSegment) {
         let first = *cur + 1;
-        // The plain slaves after `cur` (the master never is one, so the run ends before it).
-        let run = self
-            .plain_hop
-            .get(first..)
-            .map_or(0, |r| r.iter().take_while(|p| **p).count());
-        let (Some(delays), Some(floors)) = (
-            self.seg_delays.get(*cur..*cur + run),
-            self.out_floors.get_mut(first..first + run),
+        let (Some(plain), Some(floors)) = (
+            self.plain_hop.get(first..),
+            self.out_floors.get_mut(first..),
         ) else {
             return;
         };
-        if run == 0 {
-            return;
-        }
         let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
         let len = seg
             .end()
             .map_or(Duration::ZERO, |e| e.saturating_duration_since(seg.start));
         let mut start = seg.start;
-        for (d, floor) in delays.iter().zip(floors.iter_mut()) {
-            start = start.saturating_add(*d).saturating_add(lat).max(*floor);
+        // One pass over the plain slaves after `cur` (the master never is one, so the run
+        // ends before it), in dense tables.
+        let mut run = 0;
+        for (p, floor) in plain.iter().zip(floors.iter_mut()) {
+            if *p == NOT_PLAIN {
+                break;
+            }
+            start = start
+                .saturating_add(Duration::from_picos(*p))
+                .saturating_add(lat)
+                .max(*floor);
             // `Node::put_out` on the fast path: the line is taken to the telegram's end
             // (a steady signal: to its start).
             *floor = start.saturating_add(len);
+            run += 1;
+        }
+        if run == 0 {
+            return;
         }
         *cur += run;
         seg.start = start;
