@@ -29,9 +29,11 @@ mod host_run;
 mod inverted_copies;
 #[cfg(test)]
 mod light_wake_tests;
+mod plain_pass;
 mod wake_queue;
 
 use inverted_copies::InvertedCopies;
+use plain_pass::PlainPass;
 use wake_queue::WakeQueue;
 
 /// `Simulation::plain_hop` of a node a slave telegram does not pass by delays alone.
@@ -115,6 +117,8 @@ pub struct Simulation {
     held_error: Option<SimError>,
     /// Inverted copies of delivered telegrams' bits, made once per telegram (`deliver`).
     inverted: InvertedCopies,
+    /// The last pass through plain repeaters, while the output floors it wrote stand.
+    plain_pass: Option<PlainPass>,
     /// Quiet wakes skip the touched list ([`Simulation::wake_node`]); off only in tests
     /// that compare both ways.
     light_wakes: bool,
@@ -267,6 +271,7 @@ impl Simulation {
             held_error: None,
             inverted: InvertedCopies::default(),
             light_wakes: true,
+            plain_pass: None,
         };
         sim.start_hosts();
         sim.settle()?;
@@ -527,8 +532,12 @@ impl Simulation {
             .get(up)
             .filter(|_| plain)
             .map_or(NOT_PLAIN, |d| d.as_picos());
-        if let Some(p) = self.plain_hop.get_mut(k) {
+        if let Some(p) = self.plain_hop.get_mut(k)
+            && *p != delay
+        {
             *p = delay;
+            // A run of plain repeaters may end elsewhere now.
+            self.plain_pass = None;
         }
     }
 
@@ -560,6 +569,7 @@ impl Simulation {
             return;
         };
         let g = node.put_out(floor, g, origin == j);
+        self.floor_written(j);
         self.propagate(j, g, origin, true);
     }
 
@@ -640,49 +650,9 @@ impl Simulation {
                 return;
             };
             seg = node.put_out(floor, seg, false);
+            self.floor_written(next);
             cur = next;
         }
-    }
-
-    /// Carries a slave's telegram or filler, at the entrance of fibre `*cur`, through the
-    /// plain repeaters after it (`plain_hop`), exactly as the per-hop loop of
-    /// [`Simulation::propagate`] would (clean fibre, no delivery, identity clock, output
-    /// floor), leaving `*cur` at the last of them.
-    fn pass_plain(&mut self, cur: &mut usize, seg: &mut LineSegment) {
-        let first = *cur + 1;
-        let (Some(plain), Some(floors)) = (
-            self.plain_hop.get(first..),
-            self.out_floors.get_mut(first..),
-        ) else {
-            return;
-        };
-        let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
-        let len = seg
-            .end()
-            .map_or(Duration::ZERO, |e| e.saturating_duration_since(seg.start));
-        let mut start = seg.start;
-        // One pass over the plain slaves after `cur` (the master never is one, so the run
-        // ends before it), in dense tables.
-        let mut run = 0;
-        for (p, floor) in plain.iter().zip(floors.iter_mut()) {
-            if *p == NOT_PLAIN {
-                break;
-            }
-            start = start
-                .saturating_add(Duration::from_picos(*p))
-                .saturating_add(lat)
-                .max(*floor);
-            // `Node::put_out` on the fast path: the line is taken to the telegram's end
-            // (a steady signal: to its start).
-            *floor = start.saturating_add(len);
-            run += 1;
-        }
-        if run == 0 {
-            return;
-        }
-        *cur += run;
-        seg.start = start;
-        seg.distorted = false;
     }
 
     /// 410B Fig. 4: the bus carries own telegrams only; overlapping ones are garbled.
@@ -864,6 +834,7 @@ impl Simulation {
                 if let Some(f) = self.out_floors.get_mut(node) {
                     *f = (*f).max(t);
                 }
+                self.floor_written(node);
                 self.refresh_hop(node);
                 // Its transmitter goes dark.
                 let dark =
