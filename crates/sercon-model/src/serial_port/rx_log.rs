@@ -14,13 +14,13 @@ pub(crate) struct RxLog {
 }
 
 impl RxLog {
-    /// Logs `frame`. Once twice [`RX_LOG_FRAMES`] are held, the older half is dropped in one
-    /// go: dropping the oldest frame at every push read a record written thousands of frames
-    /// ago, a cache miss per frame (`docs/performance.md`, "Controller pair", pair3), while
-    /// one sweep over the records in order is cheap. [`RxLog::take`] gives the newest
-    /// [`RX_LOG_FRAMES`] either way.
+    /// Logs `frame`. Once an eighth more than [`RX_LOG_FRAMES`] are held, the oldest eighth
+    /// is dropped in one go: dropping the oldest frame at every push read a record written
+    /// thousands of frames ago, a cache miss per frame (`docs/performance.md`, "Controller
+    /// pair", pair3), while one sweep over the records in order is cheap. [`RxLog::take`]
+    /// gives the newest [`RX_LOG_FRAMES`] either way.
     pub(crate) fn push(&mut self, frame: &HeardFrame) {
-        if self.records.len() >= 2 * RX_LOG_FRAMES {
+        if self.records.len() >= RX_LOG_FRAMES + RX_LOG_FRAMES / 8 {
             self.keep_newest(RX_LOG_FRAMES);
         }
         self.records.push_back(frame.clone());
@@ -83,10 +83,10 @@ mod tests {
         log.take(&mut out);
         assert_eq!(out.len(), frames.len(), "taken once");
 
-        // Just past the limit, past twice the limit (one compaction) and past three times.
+        // Just past the limit, past a compaction (an eighth over) and past several.
         for many in [
             RX_LOG_FRAMES + 5,
-            2 * RX_LOG_FRAMES + 7,
+            RX_LOG_FRAMES + RX_LOG_FRAMES / 8 + 7,
             3 * RX_LOG_FRAMES + 1,
         ] {
             let mut log = RxLog::default();
