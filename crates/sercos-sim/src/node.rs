@@ -149,12 +149,11 @@ impl Node {
         }
     }
 
-    /// Whether serving the node now would do nothing but take its output: no pin is traced,
-    /// no frame logged, and [`Node::host_due`] would find nothing (INT0/INT1 as the host
-    /// last saw them, no second wake pending, its deadline not passed).
-    pub(crate) fn nothing_to_serve(&self) -> bool {
+    /// Whether serving the node now would do nothing but take its output and empty its
+    /// receive log: no pin is traced, and [`Node::host_due`] would find nothing (INT0/INT1
+    /// as the host last saw them, no second wake pending, its deadline not passed).
+    pub(crate) fn quiet_host(&self) -> bool {
         self.vcd.is_none()
-            && !self.rx_pending
             && !self.rewake
             && self.host_deadline.is_none_or(|d| d > self.chip.now())
             && (

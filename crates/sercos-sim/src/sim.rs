@@ -402,7 +402,7 @@ impl Simulation {
     /// Node `j`'s own wake at simulation time `t`: advances it (if powered) and serves it.
     /// Most wakes are for an internal event of the chip (telegram processor windows, frame
     /// starts and ends, transmit starts, timing control) after which its host has nothing
-    /// due, no pin events are traced and no frame was logged: such a wake only takes the
+    /// due and no pin events are traced: such a wake only empties the receive log, takes the
     /// chip's output and sets its next wake, as `serve` would, without going through the
     /// touched list (nothing else waits to be served then, so the order is the same).
     /// Returns whether it did so (`false`: the node is touched or not powered).
@@ -416,10 +416,11 @@ impl Simulation {
         }
         let local = node.clock.to_local(t);
         node.chip.advance_to(local);
-        if !quiet || !node.nothing_to_serve() {
+        if !quiet || !node.quiet_host() {
             self.touch(j);
             return Ok(false);
         }
+        self.drain_rx(j);
         // `serve_node` with nothing due but the output; `refresh_hop` would find what it
         // found last (only hosts, power and clock faults change it, and they serve the node).
         self.route_outputs(j);
@@ -494,14 +495,20 @@ impl Simulation {
                 self.recorder.pin_event(v, e);
             }
         }
-        // The receiver's frame log is for tools; emptied here it costs nothing to copy.
-        // Only a line input logs frames (`deliver` marks the node).
-        if node.rx_pending {
+        self.drain_rx(j);
+        self.route_outputs(j);
+    }
+
+    /// Empties node `j`'s receive log: it is for tools; emptied at once it costs nothing to
+    /// copy. Only a line input logs frames (`deliver` marks the node).
+    fn drain_rx(&mut self, j: usize) {
+        if let Some(node) = self.nodes.get_mut(j)
+            && node.rx_pending
+        {
             node.chip.take_rx_frames(&mut self.rx_frames);
             self.rx_frames.clear();
             node.rx_pending = false;
         }
-        self.route_outputs(j);
     }
 
     /// Takes what node `j`'s chip released to its output line and sends it on its way.
@@ -732,23 +739,60 @@ impl Simulation {
             node.expect
                 .push_back(local.start.saturating_add(lat), origin);
         }
+        let ahead = local.start > node.chip.now();
         if local.start < node.chip.now() {
             self.stats.late += 1;
         }
+        let start = node.clock.to_global(local.start);
         node.chip.line_input(local);
         node.rx_pending = true;
         self.stats.deliveries += 1;
+        // A segment that starts after the chip's time adds events from its start on only
+        // (`Chip::line_input`; it may also put a pending event off, such as the FIBBR
+        // timeout, 410B §4.1 2H.13): a node whose pending wake comes no later, with nothing
+        // for its host, would be served for nothing now (no output, no pin change; the
+        // frames are taken at that wake) and would get a wake no earlier. It keeps its
+        // wake; if nothing is due then, that wake only sets the next one. Debug builds check
+        // that the wake it would get is not earlier.
+        if ahead
+            && node.quiet_host()
+            && node.wake.is_some_and(|w| w <= start)
+            && !self.is_touched.get(j).copied().unwrap_or(true)
+        {
+            debug_assert!(
+                self.next_wake(j).is_none_or(|w| {
+                    w.is_none_or(|w| self.nodes.get(j).and_then(|n| n.wake) <= Some(w))
+                }),
+                "a delivery ahead of the chip made its next wake earlier"
+            );
+            return;
+        }
         self.touch(j);
     }
 
     /// Schedules node `j`'s next wake.
     fn reschedule(&mut self, j: usize) -> Result<(), SimError> {
-        let now = self.now;
-        let exact = self.delivery == Delivery::Exact;
-        let lookahead = self.lookahead;
+        let Some(wake) = self.next_wake(j) else {
+            return Ok(());
+        };
         let Some(node) = self.nodes.get_mut(j) else {
             return Ok(());
         };
+        node.wake = wake;
+        match wake {
+            Some(g) => self.queue.set(j, g),
+            None => self.queue.remove(j),
+        }
+        Ok(())
+    }
+
+    /// Node `j`'s next wake as [`Simulation::reschedule`] sets it; `None` when the pending
+    /// one stays as it is.
+    fn next_wake(&self, j: usize) -> Option<Option<Instant>> {
+        let now = self.now;
+        let exact = self.delivery == Delivery::Exact;
+        let lookahead = self.lookahead;
+        let node = self.nodes.get(j)?;
         let mut next: Option<Instant> = None;
         if node.powered {
             let chip_now = node.chip.now();
@@ -786,12 +830,10 @@ impl Simulation {
         }
         let global = next.map(|l| node.clock.to_global(l).max(now));
         if node.wake == global {
-            return Ok(());
+            return None;
         }
         let Some(g) = global else {
-            node.wake = None;
-            self.queue.remove(j);
-            return Ok(());
+            return Some(None);
         };
         // A deadline that does not move on would be served again at once: one picosecond
         // later at least, so that time always advances.
@@ -800,9 +842,7 @@ impl Simulation {
         } else {
             g
         };
-        self.queue.set(j, g);
-        node.wake = Some(g);
-        Ok(())
+        Some(Some(g))
     }
 
     fn fault_start(&mut self, i: usize, t: Instant) -> Result<(), SimError> {
