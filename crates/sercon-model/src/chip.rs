@@ -173,8 +173,15 @@ impl Chip {
                         // raises flags, and changes the engine's timing only through
                         // `sync_cycle` (a slave's MST), which drops the engine's memo: with
                         // neither, no level can have changed (most processor events).
-                        if self.engine.flags != flags || self.engine.next_memo.is_none() {
+                        if self.engine.next_memo.is_none() {
                             self.settle_tick(k);
+                        } else if self.engine.flags != flags {
+                            // Flags only: INT0 / INT1 (the other levels stand).
+                            let changed = self.engine.update_int_levels();
+                            if changed != 0 {
+                                let at = self.clock.instant(k);
+                                self.emit(changed, at);
+                            }
                         } else {
                             debug_assert_eq!(self.engine.levels, self.engine.compute_levels());
                         }

@@ -101,6 +101,22 @@ impl Engine {
         changed
     }
 
+    /// [`Engine::update_levels`] after a change of the interrupt flags alone: INT0 and INT1
+    /// follow the flags (410B §4.1 3H–9H), CONCLK, DIVCLK and WDOGN the timing outputs and
+    /// the watchdog, which the flags do not move. Returns the bit mask of pins that changed.
+    pub(crate) fn update_int_levels(&mut self) -> u8 {
+        let mut changed = 0;
+        for (n, level) in self.levels.iter_mut().take(2).enumerate() {
+            let new = self.flags.pin_level(&self.s, n);
+            if *level != new {
+                *level = new;
+                changed |= 1 << n;
+            }
+        }
+        debug_assert_eq!(self.levels, self.compute_levels());
+        changed
+    }
+
     /// Recomputes the levels after a replacement of the state; returns the bit mask of
     /// pins whose level differs from `before`.
     pub(crate) fn update_levels_from(&mut self, before: Levels) -> u8 {
