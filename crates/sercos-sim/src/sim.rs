@@ -29,10 +29,12 @@ mod host_run;
 mod inverted_copies;
 #[cfg(test)]
 mod light_wake_tests;
+mod out_floors;
 mod plain_pass;
 mod wake_queue;
 
 use inverted_copies::InvertedCopies;
+use out_floors::OutFloors;
 use plain_pass::PlainPass;
 use wake_queue::WakeQueue;
 
@@ -97,7 +99,7 @@ pub struct Simulation {
     now: Instant,
     lookahead: Lookahead,
     /// How far each node's output line is taken (simulation time), dense for the hop loop.
-    out_floors: Vec<Instant>,
+    out_floors: OutFloors,
     /// Delay of each fibre (dense copy of `segments[k].delay`).
     seg_delays: Vec<Duration>,
     /// The shortest fibre's delay, if not zero (`host_run`: no signal gets from one node to
@@ -111,6 +113,9 @@ pub struct Simulation {
     /// delay of the fibre into k in ps, so that the hop loop reads one dense table;
     /// [`NOT_PLAIN`] otherwise (a fibre that long is taken hop by hop, to the same result).
     plain_hop: Vec<u64>,
+    /// For each node, the first node from it on that is not plain (`plain_hop`), or the
+    /// node count: where a run of plain repeaters starting there ends.
+    run_end: Vec<usize>,
     /// Hosts running inside other hosts' bus time (`host_run`).
     host_nesting: usize,
     /// The first error of events run inside a host's bus time, for `run_until` to return.
@@ -242,7 +247,15 @@ impl Simulation {
             }
         }
         let mut sim = Simulation {
-            out_floors: vec![Instant::ZERO; n],
+            out_floors: OutFloors::new(
+                n,
+                (0..n).map(|k| {
+                    seg_delays
+                        .get((k + n - 1) % n)
+                        .copied()
+                        .unwrap_or(Duration::ZERO)
+                }),
+            ),
             min_fibre_delay: seg_delays
                 .iter()
                 .copied()
@@ -250,6 +263,7 @@ impl Simulation {
                 .filter(|d| *d > Duration::ZERO),
             seg_delays: seg_delays.clone(),
             plain_hop: vec![NOT_PLAIN; n],
+            run_end: (0..n).collect(),
             static_plain,
             topology: cfg.topology,
             delivery: cfg.delivery,
@@ -545,6 +559,19 @@ impl Simulation {
             *p = delay;
             // A run of plain repeaters may end elsewhere now.
             self.plain_pass = None;
+            let mut end = self.plain_hop.len();
+            for (i, (r, p)) in self
+                .run_end
+                .iter_mut()
+                .zip(&self.plain_hop)
+                .enumerate()
+                .rev()
+            {
+                if *p == NOT_PLAIN {
+                    end = i;
+                }
+                *r = end;
+            }
         }
     }
 
@@ -572,10 +599,11 @@ impl Simulation {
         }
         let mut g = seg;
         g.start = node.clock.to_global(g.start);
-        let Some(floor) = self.out_floors.get_mut(j) else {
+        let Some(mut floor) = self.out_floors.get(j) else {
             return;
         };
-        let g = node.put_out(floor, g, origin == j);
+        let g = node.put_out(&mut floor, g, origin == j);
+        self.out_floors.set(j, floor);
         self.floor_written(j);
         self.propagate(j, g, origin, true);
     }
@@ -653,10 +681,11 @@ impl Simulation {
             let l_out = node.clock.to_local(seg.start).saturating_add(lat);
             seg.start = node.clock.to_global(l_out);
             seg.distorted = false;
-            let Some(floor) = self.out_floors.get_mut(next) else {
+            let Some(mut floor) = self.out_floors.get(next) else {
                 return;
             };
-            seg = node.put_out(floor, seg, false);
+            seg = node.put_out(&mut floor, seg, false);
+            self.out_floors.set(next, floor);
             self.floor_written(next);
             cur = next;
         }
@@ -871,8 +900,8 @@ impl Simulation {
                     }
                     n.expect.clear();
                 }
-                if let Some(f) = self.out_floors.get_mut(node) {
-                    *f = (*f).max(t);
+                if let Some(f) = self.out_floors.get(node) {
+                    self.out_floors.set(node, f.max(t));
                 }
                 self.floor_written(node);
                 self.refresh_hop(node);

@@ -1,6 +1,7 @@
 //! Slave telegrams through runs of plain repeaters (fast path): by fibre delays and repeater
-//! latencies over dense tables (410B §1: "The slaves regenerate and repeat their received
-//! data"), and the filler behind a telegram without a pass of its own.
+//! latencies (410B §1: "The slaves regenerate and repeat their received data"), in constant
+//! time where the run's output floors are one offset above the hops ([`super::out_floors`]),
+//! and the filler behind a telegram without a pass of its own.
 //!
 //! A slave resumes its background (the filler) at the very end of its own AT, so the filler
 //! enters the run exactly one telegram length after the AT. If no output floor of the run
@@ -14,6 +15,7 @@
 use sercon_model::serial_port::{LineSegment, REPEATER_LATENCY_BITS};
 use sercos_wire::time::{Duration, Instant};
 
+use super::out_floors::Crossing;
 use super::{NOT_PLAIN, Simulation};
 
 /// A pass through a run of plain repeaters whose output floors still stand.
@@ -84,16 +86,24 @@ impl Simulation {
             seg.distorted = false;
             return;
         }
-        let (Some(plain), Some(floors)) = (
-            self.plain_hop.get(first..),
-            self.out_floors.get_mut(first..),
-        ) else {
+        let stop = self.run_end.get(first).copied().unwrap_or(first);
+        let run = stop.saturating_sub(first);
+        let Some(plain) = self.plain_hop.get(first..stop) else {
             return;
         };
-        let (start, run) = walk(plain, floors, seg.start, lat, len);
         if run == 0 {
             return;
         }
+        let crossing = Crossing {
+            start: seg.start,
+            len,
+            lat,
+        };
+        let start = self
+            .out_floors
+            .pass(plain, first..stop, crossing, |p, f, s| {
+                walk(p, f, s, lat, len)
+            });
         // Kept only where no sum saturated (then the module notes' algebra holds).
         self.plain_pass = start
             .as_picos()
@@ -135,8 +145,10 @@ impl Simulation {
         if cfg!(debug_assertions) {
             let first = cur + 1;
             let plain = self.plain_hop.get(first..).unwrap_or(&[]);
-            let floors = self.out_floors.get(first..).unwrap_or(&[]);
-            let mut walked = floors.to_vec();
+            let floors: Vec<Instant> = (first..self.plain_hop.len())
+                .filter_map(|m| self.out_floors.get(m))
+                .collect();
+            let mut walked = floors.clone();
             let got = walk(plain, &mut walked, start, lat, Duration::ZERO);
             debug_assert_eq!(got, (out, run), "filler behind a pass");
             debug_assert_eq!(walked, floors, "a filler behind a pass changes no floor");

@@ -1,0 +1,311 @@
+//! How far each node's output line is taken (simulation time): the floors below which a
+//! forwarded segment cannot start (`Node::put_out`), and the pass of a slave telegram through
+//! a run of plain repeaters (410B §1: "The slaves regenerate and repeat their received
+//! data") in constant time.
+//!
+//! Through plain repeaters a segment only gains the fibre delay and the repeater latency at
+//! every hop, unless a repeater's output is still taken (its floor): at repeater `m` it
+//! starts at `max(start(m−1) + hop(m), floor(m))` and leaves the floor at that plus its
+//! length. Measured against the prefix sums `Q(m)` of the hops, `start(m) − Q(m)` is the
+//! running maximum of the entry offset and every `floor − Q` passed, and the floors it
+//! leaves are that plus its length. So when the floors over a run are one offset above `Q`
+//! (as every pass that was not held up leaves them), a pass is two comparisons: the floors
+//! are kept as that offset over the run ([`Uniform`]) and written out only when a single
+//! floor is read or written through [`OutFloors::get`] / [`OutFloors::set`] or a pass
+//! covers part of the run.
+
+use std::ops::Range;
+
+use sercos_wire::time::{Duration, Instant};
+
+/// Sums above this are left to the hop-by-hop walk (which saturates where the prefix sums
+/// would not).
+const SAFE_PS: i128 = 1 << 62;
+
+/// A segment at the entrance of a run: its start, its length (zero for a steady signal)
+/// and the repeater latency it gains at every hop.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Crossing {
+    /// Start at the output of the node before the run.
+    pub(super) start: Instant,
+    /// Length.
+    pub(super) len: Duration,
+    /// Repeater latency.
+    pub(super) lat: Duration,
+}
+
+/// Floors `from..to` are `prefix + offset` (not written to `floors`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Uniform {
+    from: usize,
+    to: usize,
+    offset: i128,
+}
+
+/// The output floors of every node, some of them kept as one offset over a run.
+#[derive(Debug, Clone, Default)]
+pub(super) struct OutFloors {
+    floors: Vec<Instant>,
+    /// Delay of the fibre into each node (ps).
+    delays: Vec<u64>,
+    /// `prefix[m]`: the hops (fibre delay into `i` plus latency) of nodes `1..=m`.
+    prefix: Vec<i128>,
+    /// The latency `prefix` was summed with.
+    prefix_lat: Option<Duration>,
+    uniform: Option<Uniform>,
+}
+
+impl OutFloors {
+    /// `n` floors at time zero; `fibre_into[m]` is the delay of the fibre into node `m`.
+    pub(super) fn new(n: usize, fibre_into: impl Iterator<Item = Duration>) -> Self {
+        OutFloors {
+            floors: vec![Instant::ZERO; n],
+            delays: fibre_into.map(Duration::as_picos).collect(),
+            prefix: Vec::new(),
+            prefix_lat: None,
+            uniform: None,
+        }
+    }
+
+    /// Node `m`'s floor.
+    pub(super) fn get(&self, m: usize) -> Option<Instant> {
+        if let Some(u) = self.uniform
+            && u.from <= m
+            && m < u.to
+        {
+            let v = self.prefix.get(m)? + u.offset;
+            return u64::try_from(v).ok().map(Instant::from_picos);
+        }
+        self.floors.get(m).copied()
+    }
+
+    /// Sets node `m`'s floor. In a uniform run, the floors before `m` are written out and
+    /// the run goes on after it (a ring's writes come in ring order: usually none).
+    pub(super) fn set(&mut self, m: usize, v: Instant) {
+        if let Some(u) = self.uniform
+            && u.from <= m
+            && m < u.to
+        {
+            self.write_range(u, u.from, m);
+            self.uniform = (m + 1 < u.to).then_some(Uniform { from: m + 1, ..u });
+        }
+        if let Some(f) = self.floors.get_mut(m) {
+            *f = v;
+        }
+    }
+
+    /// Writes the uniform run out to `floors`.
+    fn write_out(&mut self) {
+        if let Some(u) = self.uniform.take() {
+            self.write_range(u, u.from, u.to);
+        }
+    }
+
+    /// Writes floors `a..b` of `u` out.
+    fn write_range(&mut self, u: Uniform, a: usize, b: usize) {
+        for m in a..b {
+            if let (Some(f), Some(q)) = (self.floors.get_mut(m), self.prefix.get(m)) {
+                *f = Instant::from_picos(u64::try_from(q + u.offset).unwrap_or(0));
+            }
+        }
+    }
+
+    /// The prefix sums for `lat` (the uniform run, summed with another latency, is written
+    /// out first).
+    fn use_lat(&mut self, lat: Duration) {
+        if self.prefix_lat == Some(lat) {
+            return;
+        }
+        self.write_out();
+        let lat = i128::from(lat.as_picos());
+        let mut sum = 0i128;
+        self.prefix.clear();
+        for (m, d) in self.delays.iter().enumerate() {
+            if m > 0 {
+                sum += i128::from(*d) + lat;
+            }
+            self.prefix.push(sum);
+        }
+        self.prefix_lat = Some(Duration::from_picos(u64::try_from(lat).unwrap_or(0)));
+    }
+
+    /// Carries `seg` from the output of node `run.start − 1` through the plain repeaters
+    /// `run` (`plain`: their fibre delays, as `Simulation::plain_hop` keeps them), raising
+    /// their floors; returns its start after the last of them. `walk` is the hop-by-hop
+    /// reference (used when the run's floors are not one offset).
+    pub(super) fn pass(
+        &mut self,
+        plain: &[u64],
+        run: Range<usize>,
+        seg: Crossing,
+        walk: impl FnOnce(&[u64], &mut [Instant], Instant) -> (Instant, usize),
+    ) -> Instant {
+        let Crossing { start, len, lat } = seg;
+        let (first, end) = (run.start, run.end);
+        self.use_lat(lat);
+        let (Some(q_in), Some(q_out)) = (
+            first.checked_sub(1).and_then(|i| self.prefix.get(i)),
+            end.checked_sub(1).and_then(|i| self.prefix.get(i)),
+        ) else {
+            return start;
+        };
+        let (q_in, q_out) = (*q_in, *q_out);
+        let len_ps = i128::from(len.as_picos());
+        let offset = i128::from(start.as_picos()) - q_in;
+        if let Some(u) = self.uniform
+            && u.from <= first
+            && end <= u.to
+        {
+            // Held up at the first floor (they are all one offset above the hops) or not
+            // at all, and then one offset above the hops itself.
+            let reached = offset.max(u.offset);
+            let out = reached + q_out;
+            if out + len_ps < SAFE_PS {
+                let new = Uniform {
+                    from: first,
+                    to: end,
+                    offset: reached + len_ps,
+                };
+                self.debug_check(plain, first..end, seg, out, new);
+                // Floors outside the run keep the old offset.
+                self.write_range(u, u.from, first);
+                self.write_range(u, end, u.to);
+                self.uniform = Some(new);
+                return Instant::from_picos(u64::try_from(out).unwrap_or(0));
+            }
+        }
+        self.write_out();
+        let Some(floors) = self.floors.get_mut(first..end) else {
+            return start;
+        };
+        let (out, run) = walk(plain, floors, start);
+        let out_ps = i128::from(out.as_picos());
+        // Not held up anywhere: the floors are one offset over the run now.
+        if run == end - first && out_ps - q_out == offset && out_ps + len_ps < SAFE_PS {
+            self.uniform = Some(Uniform {
+                from: first,
+                to: end,
+                offset: offset + len_ps,
+            });
+        }
+        out
+    }
+
+    /// Debug builds: the constant-time pass gives what the walk gives.
+    fn debug_check(
+        &self,
+        plain: &[u64],
+        run: Range<usize>,
+        seg: Crossing,
+        out: i128,
+        new: Uniform,
+    ) {
+        if cfg!(debug_assertions) {
+            let Crossing { start, len, lat } = seg;
+            let (first, end) = (run.start, run.end);
+            let mut floors: Vec<Instant> = (first..end).filter_map(|m| self.get(m)).collect();
+            let mut at = start;
+            for (d, f) in plain.iter().zip(floors.iter_mut()) {
+                at = at
+                    .saturating_add(Duration::from_picos(*d))
+                    .saturating_add(lat)
+                    .max(*f);
+                *f = at.saturating_add(len);
+            }
+            debug_assert_eq!(i128::from(at.as_picos()), out, "pass through a uniform run");
+            for (m, f) in (first..end).zip(&floors) {
+                let want = self.prefix.get(m).map(|q| q + new.offset);
+                debug_assert_eq!(want, Some(i128::from(f.as_picos())), "floor {m}");
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator (no dependency for a unit test).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self, n: u64) -> u64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 33) % n.max(1)
+        }
+    }
+
+    /// The hop-by-hop reference of a pass (`Node::put_out` on the fast path at every hop).
+    fn reference(
+        delays: &[u64],
+        floors: &mut [Instant],
+        start: Instant,
+        lat: Duration,
+        len: Duration,
+    ) -> (Instant, usize) {
+        let mut at = start;
+        for (d, f) in delays.iter().zip(floors.iter_mut()) {
+            at = at
+                .saturating_add(Duration::from_picos(*d))
+                .saturating_add(lat)
+                .max(*f);
+            *f = at.saturating_add(len);
+        }
+        (at, delays.len())
+    }
+
+    /// Passes and single floors read and written in random order (runs anywhere, telegrams
+    /// held up by earlier ones, steady signals, two latencies): the same starts and floors as
+    /// plain floors walked hop by hop; many passes take the constant-time way.
+    #[test]
+    fn same_as_walking_every_hop() {
+        let mut uniform_passes = 0;
+        for seed in 0..200 {
+            let mut rng = Lcg(seed);
+            let n = 2 + rng.next(12) as usize;
+            let delays: Vec<u64> = (0..n).map(|_| 1_000 + rng.next(50_000)).collect();
+            let mut fast = OutFloors::new(n, delays.iter().map(|d| Duration::from_picos(*d)));
+            let mut slow = vec![Instant::ZERO; n];
+            let mut now = 0u64;
+            for step in 0..300 {
+                now += rng.next(40_000);
+                match rng.next(5) {
+                    0 => {
+                        let m = rng.next(n as u64) as usize;
+                        let v = Instant::from_picos(now + rng.next(90_000));
+                        fast.set(m, v);
+                        slow[m] = v;
+                    }
+                    _ => {
+                        let first = 1 + rng.next(n as u64 - 1) as usize;
+                        let end = first + 1 + rng.next((n - first) as u64) as usize;
+                        let start = Instant::from_picos(now);
+                        let len = Duration::from_picos(rng.next(3) * rng.next(200_000));
+                        let lat =
+                            Duration::from_picos(if rng.next(20) == 0 { 250_000 } else { 125_000 });
+                        let plain = &delays[first..end];
+                        if fast.uniform.is_some_and(|u| u.from <= first && end <= u.to) {
+                            uniform_passes += 1;
+                        }
+                        let want = reference(plain, &mut slow[first..end], start, lat, len);
+                        let seg = Crossing { start, len, lat };
+                        let got = fast.pass(plain, first..end, seg, |p, f, s| {
+                            reference(p, f, s, lat, len)
+                        });
+                        assert_eq!(got, want.0, "seed {seed} step {step}");
+                    }
+                }
+                for (m, want) in slow.iter().enumerate() {
+                    assert_eq!(
+                        fast.get(m),
+                        Some(*want),
+                        "seed {seed} step {step} floor {m}"
+                    );
+                }
+            }
+        }
+        assert!(uniform_passes > 1_000, "{uniform_passes}");
+    }
+}
