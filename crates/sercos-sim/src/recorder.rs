@@ -200,7 +200,7 @@ impl Recorder {
     }
 
     /// Writes the records before `now` (nothing earlier can come any more).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn flush_before(&mut self, now: Instant) -> Result<(), SimError> {
         // Called after every event: the usual answer (nothing due) without a call.
         if self

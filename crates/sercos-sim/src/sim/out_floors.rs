@@ -181,7 +181,8 @@ impl OutFloors {
         let (out, run) = walk(plain, floors, start);
         let out_ps = i128::from(out.as_picos());
         // Not held up anywhere: the floors are one offset over the run now.
-        if run == end - first && out_ps - q_out == offset && out_ps + len_ps < SAFE_PS {
+        if run == end.saturating_sub(first) && out_ps - q_out == offset && out_ps + len_ps < SAFE_PS
+        {
             self.uniform = Some(Uniform {
                 from: first,
                 to: end,
