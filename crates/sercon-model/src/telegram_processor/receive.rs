@@ -196,7 +196,11 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
     let mut record = std::mem::take(&mut chip.tp.record);
     list.clear();
     let mut walk = Containers::new(&chip.ram, at, HeaderKind::Receive, buffering);
-    list.extend(walk.by_ref());
+    // One push per container (`extend` takes the generic path for this iterator: a size
+    // hint and a capacity check per element).
+    for c in walk.by_ref() {
+        list.push(c);
+    }
     let walk_error = walk.error;
     let mut overrun = false;
     let mut fifo_overrun = false;

@@ -125,7 +125,11 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
     let mut list = std::mem::take(&mut chip.tp.containers);
     list.clear();
     let mut walk = Containers::new(&chip.ram, at, HeaderKind::Transmit, buffering);
-    list.extend(walk.by_ref());
+    // One push per container (`extend` takes the generic path for this iterator: a size
+    // hint and a capacity check per element).
+    for c in walk.by_ref() {
+        list.push(c);
+    }
     let walk_error = walk.error;
     for c in list.iter() {
         let len = usize::from(c.control.len);
