@@ -156,7 +156,13 @@ impl Chip {
                         }
                         if step.cycle_started {
                             crate::telegram_processor::on_cycle_start(self, step.tick);
-                            self.settle_tick(step.tick);
+                            // The step settled every level; sending the MST and queueing
+                            // the block leave the timing control alone: INT0 / INT1 only
+                            // (debug-asserted against all levels).
+                            let changed = self.engine.update_int_levels();
+                            if changed != 0 {
+                                self.emit(changed, at);
+                            }
                             tp_next = crate::telegram_processor::next_tick(self);
                         }
                         // Otherwise the step changed the timing control only: the
