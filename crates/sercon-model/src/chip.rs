@@ -239,6 +239,7 @@ impl Chip {
         self.next_core = None;
         self.tp_next = None;
         self.engine.next_memo = None;
+        self.tp.tx_ahead.set(None);
     }
 
     /// The next instant after [`Chip::now`] at which something observable happens: a
@@ -283,6 +284,40 @@ impl Chip {
             return None;
         }
         self.next_internal()
+    }
+
+    /// A lower bound of the next instant at which the chip may do anything a simulation
+    /// must see at once: start a telegram of its own, or change a pin its host or a trace
+    /// could notice. With no pin traced, both interrupt outputs disabled (03H ENINT0/1,
+    /// 410B §4.1) and the watchdog stopped, that is the telegram processor's next possible
+    /// transmission (a slave's block starts with the MST it receives, a master's with its
+    /// cycle start; 410B §4.2.1 TRT) or a serial-port change of FIBBR / RDIST; otherwise
+    /// it is [`Chip::next_internal_event_at`]. Events before it (receive telegrams, windows,
+    /// status) are processed when the chip is next advanced, with the same results.
+    /// Output already queued is not part of it ([`Chip::next_line_output_at`]).
+    pub fn next_output_bound(&self) -> Option<Instant> {
+        if self.in_reset {
+            return None;
+        }
+        let internal = self.next_internal()?;
+        let s = &self.engine.s;
+        if !self.traced.is_empty() || s.enint[0] || s.enint[1] || self.engine.wd.running {
+            return Some(internal);
+        }
+        let mut tick = crate::telegram_processor::next_tx_bound(self);
+        if !s.is_sercos_slave() {
+            // 410B §4.1 0CH: a master's (or a non-SERCOS) cycle start sends the MST or
+            // starts a block.
+            tick = match (tick, self.engine.next_tick()) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
+        }
+        let bound = earliest(
+            tick.map(|k| self.clock.instant(k)),
+            self.serial_next_loud_event(),
+        )?;
+        Some(bound.max(internal))
     }
 
     /// Chooses which pins produce [`PinEvent`]s from now on.

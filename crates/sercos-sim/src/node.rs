@@ -60,9 +60,6 @@ pub(crate) struct Node {
     pub(crate) vcd: Option<usize>,
     /// The host is running (or has not started yet): it is not woken again meanwhile.
     pub(crate) host_busy: bool,
-    /// A segment was handed to the receiver since its frame log was last emptied (only a
-    /// line input logs frames).
-    pub(crate) rx_pending: bool,
 }
 
 impl Node {
@@ -93,7 +90,6 @@ impl Node {
             wake: None,
             vcd: None,
             host_busy: false,
-            rx_pending: false,
         }
     }
 

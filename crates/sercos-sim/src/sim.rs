@@ -94,7 +94,6 @@ pub struct Simulation {
     is_touched: Vec<bool>,
     buf: Vec<LineSegment>,
     pins: Vec<PinEvent>,
-    rx_frames: Vec<sercon_model::serial_port::RxFrame>,
     bus_busy_until: Instant,
     now: Instant,
     lookahead: Lookahead,
@@ -175,8 +174,11 @@ impl Simulation {
         let mut recorder = Recorder::new(cfg.traces.clone())?;
         let mut nodes = Vec::with_capacity(n);
         for (i, (nc, host)) in cfg.nodes.iter().zip(hosts).enumerate() {
-            let chip =
+            let mut chip =
                 Chip::try_new(nc.chip).map_err(|source| SimError::Chip { node: i, source })?;
+            // The receive log is for tools; nothing here reads it (every frame still goes
+            // to the telegram processor).
+            chip.set_rx_log(false);
             let clock = NodeClock::new(ppm_to_ppb(nc.mclk_error_ppm));
             let mut node = Node::new(nc.clone(), chip, host, clock);
             node.track_levels = cfg.delivery == Delivery::Exact;
@@ -277,7 +279,6 @@ impl Simulation {
             is_touched: vec![false; n],
             buf: Vec::new(),
             pins: Vec::new(),
-            rx_frames: Vec::new(),
             bus_busy_until: Instant::ZERO,
             now: Instant::ZERO,
             lookahead: Lookahead::default(),
@@ -434,7 +435,6 @@ impl Simulation {
             self.touch(j);
             return Ok(false);
         }
-        self.drain_rx(j);
         // `serve_node` with nothing due but the output; `refresh_hop` would find what it
         // found last (only hosts, power and clock faults change it, and they serve the node).
         self.route_outputs(j);
@@ -509,20 +509,7 @@ impl Simulation {
                 self.recorder.pin_event(v, e);
             }
         }
-        self.drain_rx(j);
         self.route_outputs(j);
-    }
-
-    /// Empties node `j`'s receive log: it is for tools; emptied at once it costs nothing to
-    /// copy. Only a line input logs frames (`deliver` marks the node).
-    fn drain_rx(&mut self, j: usize) {
-        if let Some(node) = self.nodes.get_mut(j)
-            && node.rx_pending
-        {
-            node.chip.take_rx_frames(&mut self.rx_frames);
-            self.rx_frames.clear();
-            node.rx_pending = false;
-        }
     }
 
     /// Takes what node `j`'s chip released to its output line and sends it on its way.
@@ -774,7 +761,6 @@ impl Simulation {
         }
         let start = node.clock.to_global(local.start);
         node.chip.line_input(local);
-        node.rx_pending = true;
         self.stats.deliveries += 1;
         // A segment that starts after the chip's time adds events from its start on only
         // (`Chip::line_input`; it may also put a pending event off, such as the FIBBR
@@ -830,14 +816,16 @@ impl Simulation {
                     next = Some(next.map_or(t, |n: Instant| n.min(t)));
                 }
             };
-            // The chip's next internal event: cheaper to ask than the next observable
-            // instant (no look-ahead probe), and every interrupt change is seen at once.
+            // Fast path: the chip's next possible own output (`Chip::next_output_bound`:
+            // its next transmit telegram or cycle start, 410B §4.2.1 TRT, unless a pin or
+            // an interrupt output can be seen; then its next internal event). Receive
+            // events before it are processed at the next advance, with the same results.
             if lookahead == Lookahead::Events && !exact {
                 // Fast path: the forwarded copies the simulation expects (it carried them
                 // down the ring when they arrived, 410B §1 "The slaves regenerate and
                 // repeat their received data") need no wake; they are taken and dropped
                 // at the next one. Own output and anything unexpected still wake the node.
-                cand(node.chip.next_internal_event_at());
+                cand(node.chip.next_output_bound());
                 cand(
                     node.chip
                         .next_line_output_except(node.expect.starts().iter().copied()),
@@ -943,13 +931,14 @@ impl Simulation {
                 // A fresh chip out of reset; its host configures it again.
                 let cfg: ChipConfig = n.cfg.chip;
                 n.chip = Chip::new(cfg);
+                // The receive log is for tools; nothing here reads it.
+                n.chip.set_rx_log(false);
                 let local = n.clock.to_local(t);
                 n.chip.advance_to(local);
                 if let Some(v) = n.vcd {
                     let _ = v;
                 }
                 n.powered = true;
-                n.rx_pending = false;
                 n.expect.clear();
                 n.resume = None;
                 n.in_floor = local;

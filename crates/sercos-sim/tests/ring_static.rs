@@ -273,6 +273,59 @@ fn unwoken_forwarded_copies_keep_the_exact_trace_and_nothing_late() {
     }
 }
 
+/// The fast path lets a chip sleep until its next possible own telegram
+/// (`Chip::next_output_bound`, 410B §4.2.1 TRT) and processes its receive telegrams at the
+/// next advance: at the end of the run every chip holds what the exact path's chips hold
+/// (RAM: received data, VAL, NERR, NMSTERR, TEND; registers: status, counters, flags;
+/// not a slave's REACTN, see below), with far fewer events.
+#[test]
+fn sleeping_through_receive_events_leaves_every_chip_as_the_exact_path() {
+    let slaves = 12;
+    let mut states = Vec::new();
+    let mut events = Vec::new();
+    for delivery in [Delivery::Exact, Delivery::Fast] {
+        let (cfg, hosts, _) = build(&compared_ring(slaves, delivery));
+        let (mut sim, _) = run(cfg, hosts, us(1100));
+        events.push(sim.stats().events);
+        let mut chips = Vec::new();
+        for i in 0..=slaves {
+            let chip = sim.chip_mut(i).expect("node");
+            let ram: Vec<u16> = (0..2048).map(|a| chip.read_ram(a)).collect();
+            let mut regs: Vec<u16> = (0..0x40u8).map(|a| chip.read_register(a)).collect();
+            if i > 0 {
+                // 3H.15 REACTN of a slave: the fast path gives slaves no other slave's AT
+                // (spec-notes "Fast path = reference path"), so it does not show them.
+                regs[3] &= !(1 << 15);
+            }
+            chips.push((ram, regs));
+        }
+        states.push(chips);
+    }
+    // Which words differ, as (address, exact, fast).
+    let differ = |a: &[u16], b: &[u16]| -> Vec<(usize, u16, u16)> {
+        a.iter()
+            .zip(b)
+            .enumerate()
+            .filter(|(_, (x, y))| x != y)
+            .map(|(k, (x, y))| (k, *x, *y))
+            .collect()
+    };
+    for (i, (a, b)) in states[0].iter().zip(&states[1]).enumerate() {
+        let ram = differ(&a.0, &b.0);
+        let regs = differ(&a.1, &b.1);
+        assert!(
+            ram.is_empty() && regs.is_empty(),
+            "node {i}: RAM {ram:x?} registers {regs:x?}"
+        );
+    }
+    assert!(
+        events[1] * 2 < events[0],
+        "fast {} events, exact {}",
+        events[1],
+        events[0]
+    );
+}
+
 #[test]
 fn rings_that_do_not_fit_are_refused_not_panicking() {
     for (slaves, cycle, words) in [(0, 250, 8), (255, 4000, 1), (8, 50, 8), (1, 65535, 1024)] {

@@ -116,6 +116,14 @@ impl Chip {
         self.serial.take_rx_frames(out);
     }
 
+    /// Whether the chip keeps the receive log behind [`Chip::take_rx_frames`] (on after
+    /// [`Chip::new`]). A simulation that never looks at it turns it off: every frame the
+    /// receiver hears is then only handed to the telegram processor, nothing is kept or
+    /// copied for the log. Turning it off forgets what was logged.
+    pub fn set_rx_log(&mut self, on: bool) {
+        self.serial.set_rx_log(on);
+    }
+
     /// Sends `telegram` (ADR and data, no FCS) from `at` (≥ [`Chip::now`]) as the telegram
     /// processor does, e.g. for a tool that uses the serial interface on its own (410B §1,
     /// "other real-time communications tasks"). Returns the instant the closing flag has

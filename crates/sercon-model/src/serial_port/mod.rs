@@ -265,6 +265,11 @@ impl SerialPort {
         self.rx_log.take(out);
     }
 
+    /// Keeps the receive log or not.
+    pub(crate) fn set_rx_log(&mut self, on: bool) {
+        self.rx_log.set_on(on);
+    }
+
     /// The instant of the next change the chip applies in time order: FIBBR and RDIST
     /// (and FIBBR's timeout), and IDLE / REACTN too when `pins_loud` (their pins traced).
     pub(crate) fn next_loud_event_at(&self, pins_loud: bool) -> Option<Instant> {

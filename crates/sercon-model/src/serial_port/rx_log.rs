@@ -8,18 +8,40 @@ use std::collections::VecDeque;
 use super::{HeardFrame, RX_LOG_FRAMES, RxFrame};
 
 /// The receive log.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub(crate) struct RxLog {
     records: VecDeque<HeardFrame>,
+    /// Frames are logged (`Chip::set_rx_log`).
+    on: bool,
+}
+
+impl Default for RxLog {
+    fn default() -> Self {
+        RxLog {
+            records: VecDeque::new(),
+            on: true,
+        }
+    }
 }
 
 impl RxLog {
+    /// Turns logging on or off; off forgets what was logged.
+    pub(crate) fn set_on(&mut self, on: bool) {
+        self.on = on;
+        if !on {
+            self.records.clear();
+        }
+    }
+
     /// Logs `frame`. Once an eighth more than [`RX_LOG_FRAMES`] are held, the oldest eighth
     /// is dropped in one go: dropping the oldest frame at every push read a record written
     /// thousands of frames ago, a cache miss per frame (`docs/performance.md`, "Controller
     /// pair", pair3), while one sweep over the records in order is cheap. [`RxLog::take`]
     /// gives the newest [`RX_LOG_FRAMES`] either way.
     pub(crate) fn push(&mut self, frame: &HeardFrame) {
+        if !self.on {
+            return;
+        }
         if self.records.len() >= RX_LOG_FRAMES + RX_LOG_FRAMES / 8 {
             self.keep_newest(RX_LOG_FRAMES);
         }
@@ -101,5 +123,20 @@ mod tests {
                 .collect();
             assert_eq!(out, want, "{many}");
         }
+    }
+
+    #[test]
+    fn a_log_turned_off_keeps_nothing() {
+        let mut log = RxLog::default();
+        log.push(&heard(&frame(1)));
+        log.set_on(false);
+        log.push(&heard(&frame(2)));
+        let mut out = Vec::new();
+        log.take(&mut out);
+        assert!(out.is_empty(), "{out:?}");
+        log.set_on(true);
+        log.push(&heard(&frame(3)));
+        log.take(&mut out);
+        assert_eq!(out, vec![frame(3)]);
     }
 }

@@ -15,6 +15,8 @@
 mod fifo;
 mod host;
 mod line_out;
+mod output_bound;
+pub(crate) use output_bound::next_tx_bound;
 mod receive;
 pub(crate) mod status;
 mod transmit;
@@ -162,6 +164,9 @@ pub(crate) struct TelegramProcessor {
     pub(crate) record: Vec<u16>,
     /// The containers of one telegram (reused).
     pub(crate) containers: Vec<walk::Container>,
+    /// The next transmit header ahead of the current receive header, remembered
+    /// (`output_bound`).
+    pub(crate) tx_ahead: std::cell::Cell<Option<output_bound::TxAhead>>,
 }
 
 /// Most headers one block may walk: every header has at least two words.
