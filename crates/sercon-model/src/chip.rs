@@ -143,7 +143,12 @@ impl Chip {
                 };
                 // tick_at_or_after(a) <= bound  <=>  a <= instant(bound): no division per
                 // check.
-                let bound_at = self.clock.instant(bound).min(t);
+                // No tick due (the loop's last turn): up to `t`, without the product.
+                let bound_at = if bound == u64::MAX {
+                    t
+                } else {
+                    self.clock.instant(bound).min(t)
+                };
                 while self.serial_next_loud_event().is_some_and(|a| a <= bound_at)
                     && self.serial_step(t)
                 {}
