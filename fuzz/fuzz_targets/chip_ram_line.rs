@@ -102,8 +102,20 @@ fuzz_target!(|data: &[u8]| {
                 let step =
                     Duration::from_nanos(100 * (u64::from(u16::from_be_bytes([*b, *c])) + 1));
                 let t = chip.now().saturating_add(step);
+                // The promise a simulation sleeps on: nothing released starts before it.
+                let promise = match (chip.next_output_bound(), chip.next_line_output_at()) {
+                    (Some(x), Some(y)) => Some(x.min(y)),
+                    (x, y) => x.or(y),
+                };
                 chip.advance_to(t);
                 chip.take_line_output(&mut out);
+                for seg in &out {
+                    assert!(
+                        promise.is_some_and(|p| seg.start >= p),
+                        "output at {:?} before the promise {promise:?}",
+                        seg.start
+                    );
+                }
                 chip.drain_pin_events(&mut events);
                 chip.take_rx_frames(&mut frames);
                 out.clear();

@@ -10,7 +10,9 @@ use pair_setup::{Shape, chips};
 use proptest::prelude::*;
 use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
 use sercon_model::{Chip, ChipConfig};
-use sercon_regs::{Register, SerconBus, SerconBusExt};
+use sercon_regs::ram::container::ContainerControl;
+use sercon_regs::ram::header::{EndMarker, RxHeader, TxEnable, TxHeader};
+use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
 use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity};
 use sercos_wire::time::{Duration, Instant};
 
@@ -106,6 +108,139 @@ fn an_enabled_interrupt_output_makes_every_event_count() {
     for c in &pair {
         assert_eq!(c.next_output_bound(), c.next_internal_event_at());
     }
+}
+
+/// A one-container control word of `len` words (410B §4.2.2 LEN, LASTDC = 1).
+fn control(len: u16) -> u16 {
+    ContainerControl::new(len, false, 0, false, true).map_or(0, |c| c.to_word())
+}
+
+/// A telegram as the line carries it, with its hint, from `start` at 16 Mbit/s.
+fn frame(start: Instant, bytes: &[u8]) -> LineSegment {
+    let mut enc = Encoder::new(LineConfig::new(Coding::Nrzi, Polarity::LightOnLow));
+    let mut bits = BitVec::new();
+    enc.encode(bytes, &mut bits).expect("encodable");
+    LineSegment {
+        start,
+        bit_time: Duration::from_picos(62_500),
+        signal: LineSignal::Bits(Shared::new(bits)),
+        level_before: false,
+        hint: Some(FrameHint {
+            telegram: Shared::from(bytes),
+            offset: 0,
+        }),
+        distorted: false,
+    }
+}
+
+// 410B §4.2.1/§4.2.2: a receive container laid over a transmit header two headers ahead (a
+// programming error the chip still runs): the first AT's data turn that header's EN from 0
+// to 2, so the master sends a third telegram after the second AT. What the bound walked
+// before the data arrived must not survive the controller's own write.
+#[test]
+fn received_data_that_enable_a_header_ahead_move_the_bound() {
+    let v = Variant::Sercon816;
+    let mut m = Chip::new(ChipConfig::sercon816());
+    m.write(Register::MclkDiv, 15);
+    m.write(Register::Tscyc0, 250);
+    let c1 = m.read(Register::Ctrl1);
+    m.write(Register::Ctrl1, c1 & !(1 << 3));
+    // COMPT0 → MDT (TRT 2) → AT 1 (TRT 20, data over the header at 37) → AT 2 (TRT 60) →
+    // the header at 37 (TRT 120, EN = 0 at first) → end marker.
+    let mdt = TxHeader {
+        adr: 255,
+        en: TxEnable::Continuous,
+        trt: 2,
+        tlen: 1,
+        pt: 30,
+        ..TxHeader::default()
+    };
+    m.write_ram(0, 16);
+    m.write_ram_words(16, &mdt.to_words(v));
+    m.write_ram_words(20, &[control(1), 0x1234]);
+    let at1 = RxHeader {
+        adr: 1,
+        achk: true,
+        trt: 20,
+        tlen: 4,
+        pt: 50,
+        ..RxHeader::default()
+    };
+    m.write_ram_words(30, &at1.to_words(v));
+    m.write_ram_words(35, &[control(4), 0]);
+    let at2 = RxHeader {
+        adr: 2,
+        achk: true,
+        trt: 60,
+        tlen: 1,
+        pt: 37,
+        ..RxHeader::default()
+    };
+    m.write_ram_words(50, &at2.to_words(v));
+    m.write_ram_words(55, &[control(1), 0, 0]);
+    let third = TxHeader {
+        adr: 3,
+        en: TxEnable::Off,
+        trt: 120,
+        tlen: 1,
+        pt: 70,
+        ..TxHeader::default()
+    };
+    m.write_ram_words(37, &third.to_words(v));
+    m.write_ram_words(41, &[control(1), 0x5678]);
+    m.write_ram_words(70, &EndMarker::default().to_words());
+    m.write(Register::Phas, 0x0404);
+    m.write(Register::Ctrl3, 1 << 8);
+    m.write(Register::Ctrl0C, 0b11 | (1 << 10));
+    // AT 1 carries the header at 37 with EN = 2 (words little-endian, 410B §4.2.2 POS).
+    let enabled = TxHeader {
+        en: TxEnable::Continuous,
+        ..third
+    };
+    let mut at1_bytes = vec![1u8];
+    for w in enabled.to_words(v) {
+        at1_bytes.extend_from_slice(&w.to_le_bytes());
+    }
+    let mut buf = Vec::new();
+    let mut own = Vec::new();
+    let mut mst_at = None;
+    let mut fed = 0;
+    for t in 1..=120u64 {
+        let now = Instant::ZERO + Duration::from_micros(t);
+        if let Some(t0) = mst_at {
+            // The ATs a µs before they start: 15 and 35 µs after the MST.
+            if fed == 0 && now + Duration::from_micros(1) >= t0 + Duration::from_micros(15) {
+                m.line_input(frame(t0 + Duration::from_micros(15), &at1_bytes));
+                fed = 1;
+            }
+            if fed == 1 && now + Duration::from_micros(1) >= t0 + Duration::from_micros(35) {
+                m.line_input(frame(t0 + Duration::from_micros(35), &[2, 0xAA, 0x55]));
+                fed = 2;
+            }
+        }
+        let p = promise(&m);
+        m.advance_to(now);
+        m.take_line_output(&mut buf);
+        for seg in buf.drain(..) {
+            assert!(
+                p.is_some_and(|p| seg.start >= p),
+                "a segment at {:?} before the promise {p:?}",
+                seg.start
+            );
+            if let LineSignal::Bits(_) = seg.signal {
+                mst_at.get_or_insert(seg.start);
+                own.push(seg.start);
+            }
+        }
+    }
+    // MST, MDT, and the third telegram 60 µs after the MST's end.
+    assert_eq!(fed, 2);
+    assert!(own.len() >= 3, "{own:?}");
+    assert_eq!(
+        m.read_ram(37),
+        enabled.to_words(v)[0],
+        "AT 1 stored over it"
+    );
 }
 
 proptest! {

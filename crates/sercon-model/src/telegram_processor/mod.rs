@@ -81,7 +81,7 @@ impl Visited {
     const EMPTY: Visited = Visited([0; 32]);
 
     /// Marks `addr`; returns whether it was marked already.
-    fn mark(&mut self, addr: u16) -> bool {
+    pub(crate) fn mark(&mut self, addr: u16) -> bool {
         let (i, bit) = (usize::from(addr / 64) % 32, 1u64 << (addr % 64));
         let Some(w) = self.0.get_mut(i) else {
             return false;
@@ -521,6 +521,7 @@ fn end_marker(chip: &mut Chip, tick: u64, at: u16) {
         u32::from(at) + 1,
         u16::try_from(tend).unwrap_or(u16::MAX),
     );
+    output_bound::ram_written(chip, u32::from(at) + 1, 1);
     // 410B §4.1 4H.4 INT_COMEND "end of transmission block"; 3H.6 COMACT falls.
     chip.engine.flags.lo |= INT_COMEND;
 }
@@ -543,4 +544,5 @@ pub(crate) fn ram_word(chip: &Chip, addr: u16) -> u16 {
 /// Writes the RAM word at `addr` (nothing outside the RAM).
 pub(crate) fn set_ram_word(chip: &mut Chip, addr: u16, value: u16) {
     walk::set_word(&mut chip.ram, u32::from(addr), value);
+    output_bound::ram_written(chip, u32::from(addr), 1);
 }

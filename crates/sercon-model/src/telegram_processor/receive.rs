@@ -96,6 +96,7 @@ fn write_word0(chip: &mut Chip, at: u16, h: &RxHeader) {
     cur.pt = 0;
     let w0 = cur.to_words(chip.cfg.variant)[0];
     walk::set_word(&mut chip.ram, u32::from(at), w0);
+    super::output_bound::ram_written(chip, u32::from(at), 1);
 }
 
 /// Increments NERR (receive header word 4), saturating (spec-notes "NERR").
@@ -103,6 +104,7 @@ fn count_error(chip: &mut Chip, at: u16) {
     let a = u32::from(at) + 4;
     let n = walk::word(&chip.ram, a).unwrap_or(0);
     walk::set_word(&mut chip.ram, a, n.saturating_add(1));
+    super::output_bound::ram_written(chip, a, 1);
 }
 
 /// The frame being received ended at `tick`.
@@ -240,6 +242,7 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
                         }
                     }
                 }
+                super::output_bound::ram_written(chip, dst, record.len());
             }
         }
         if c.control.svfl {
@@ -247,6 +250,7 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
             let nsv = c.control.nsv;
             let o = service_container::on_receive(&mut chip.ram, variant, nsv, mode, &record, true);
             raise_sc(chip, nsv, o.int_sc);
+            super::output_bound::ram_rewritten(chip);
         }
     }
     chip.tp.containers = list;
@@ -278,6 +282,7 @@ fn service_error(chip: &mut Chip, at: u16, h: &RxHeader) {
         let nsv = c.control.nsv;
         let o = service_container::on_receive(&mut chip.ram, variant, nsv, mode, &[], false);
         raise_sc(chip, nsv, o.int_sc);
+        super::output_bound::ram_rewritten(chip);
     }
     chip.tp.containers = list;
 }

@@ -74,6 +74,7 @@ pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHeader) {
         back.en = TxEnable::Off;
         let w0 = back.to_words(variant)[0];
         walk::set_word(&mut chip.ram, u32::from(at), w0);
+        super::output_bound::ram_written(chip, u32::from(at), 1);
     }
     if hdr.en == TxEnable::OnAddress && variant == Variant::Sercon816 {
         // 816 §2.9.2: "the flag FLMDTADR is reset after starting to send a telegram when
@@ -170,6 +171,7 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
             }
             let o = service_container::on_transmit(&mut chip.ram, variant, nsv, mode, &mut record);
             raise_sc(chip, nsv, o.int_sc);
+            super::output_bound::ram_rewritten(chip);
         }
         // Words past TLEN are not sent (410B §4.2.1 TLEN): a container overrun.
         let take = record.len().min(tlen.saturating_sub(words));
