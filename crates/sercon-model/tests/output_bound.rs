@@ -6,6 +6,8 @@
 #[path = "../benches/support/pair_setup.rs"]
 mod pair_setup;
 
+mod common;
+
 use pair_setup::{Shape, chips};
 use proptest::prelude::*;
 use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
@@ -277,19 +279,7 @@ proptest! {
             0..12,
         ),
     ) {
-        let mut chip = Chip::new(ChipConfig::sercon816());
-        chip.write(Register::MclkDiv, 31);
-        for a in 0..2048u16 {
-            chip.write_ram(a, fill.rotate_left(u32::from(a % 16)));
-        }
-        for (i, w) in ram.iter().enumerate() {
-            chip.write_ram(i as u16, *w);
-        }
-        chip.write(Register::Tscyc0, 50);
-        chip.write(Register::Phas, u16::from(fill as u8) | 0x0400);
-        chip.write(Register::Jtrdel2, 3);
-        chip.write(Register::Ctrl3, 1 << 8);
-        chip.write(Register::Ctrl0C, if master { 0b11 | (1 << 10) } else { 1 });
+        let mut chip = common::arbitrary_chip(&ram, fill, master, None);
         let mut frames = frames;
         frames.sort_by_key(|f| f.0);
         // 816 §2.3.1: 16 Mbit/s, 62.5 ns per bit.

@@ -2,6 +2,8 @@
 //! processor (410B §4.2: every walk is bounded; errors go to PROGERR_FL). The frames come
 //! over the line interface, encoded (with a hint) or corrupted (without one).
 
+mod common;
+
 use proptest::prelude::*;
 use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
 use sercon_model::{Chip, ChipConfig};
@@ -23,20 +25,7 @@ proptest! {
         ),
         reg25 in any::<u16>(),
     ) {
-        let mut chip = Chip::new(ChipConfig::sercon816());
-        chip.write(Register::MclkDiv, 31);
-        for a in 0..2048u16 {
-            chip.write_ram(a, fill.rotate_left(u32::from(a % 16)));
-        }
-        for (i, w) in ram.iter().enumerate() {
-            chip.write_ram(i as u16, *w);
-        }
-        chip.write(Register::Tscyc0, 50);
-        chip.write(Register::Phas, u16::from(fill as u8) | 0x0400);
-        chip.write(Register::Thrpt, reg25);
-        chip.write(Register::Jtrdel2, 3);
-        chip.write(Register::Ctrl3, 1 << 8);
-        chip.write(Register::Ctrl0C, if master { 0b11 | (1 << 10) } else { 1 });
+        let mut chip = common::arbitrary_chip(&ram, fill, master, Some(reg25));
         let mut frames = frames;
         frames.sort_by_key(|f| f.0);
         // 816 §2.3.1: 16 Mbit/s, 62.5 ns per bit.

@@ -48,3 +48,35 @@ pub fn drain(chip: &mut Chip) -> Vec<PinEvent> {
     chip.drain_pin_events(&mut v);
     v
 }
+
+/// A running SERCON816 (1 µs unit, 50 µs cycles, telegrams on, master or slave) whose RAM is
+/// anything: `fill` rotated word by word everywhere, then `ram` from word 0 (the arbitrary
+/// inputs of the property tests; 410B §4.2: whatever the RAM holds, the chip must run).
+/// `reg25` is written to 25H (MSTTCHK, PHAS12, FLMDTADR) when given.
+pub fn arbitrary_chip(ram: &[u16], fill: u16, master: bool, reg25: Option<u16>) -> Chip {
+    use sercon_regs::{Register, SerconBus, SerconBusExt};
+    let mut chip = Chip::new(ChipConfig::sercon816());
+    chip.write(Register::MclkDiv, 31);
+    for a in 0..2048u16 {
+        chip.write_ram(a, fill.rotate_left(u32::from(a % 16)));
+    }
+    for (i, w) in (0u16..).zip(ram) {
+        chip.write_ram(i, *w);
+    }
+    chip.write(Register::Tscyc0, 50);
+    chip.write(Register::Phas, u16::from(fill as u8) | 0x0400);
+    if let Some(r) = reg25 {
+        chip.write(Register::Thrpt, r);
+    }
+    chip.write(Register::Jtrdel2, 3);
+    chip.write(Register::Ctrl3, 1 << 8);
+    chip.write(
+        Register::Ctrl0C,
+        if master {
+            CTRL0C_MASTER | CTRL0C_CYCSTART
+        } else {
+            1
+        },
+    );
+    chip
+}
