@@ -31,6 +31,8 @@ mod inverted_copies;
 mod light_wake_tests;
 mod out_floors;
 mod plain_pass;
+#[cfg(test)]
+mod test_lcg;
 mod wake_queue;
 
 use inverted_copies::InvertedCopies;

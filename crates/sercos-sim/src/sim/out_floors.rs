@@ -225,18 +225,7 @@ impl OutFloors {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A small deterministic generator (no dependency for a unit test).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self, n: u64) -> u64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (self.0 >> 33) % n.max(1)
-        }
-    }
+    use crate::sim::test_lcg::Lcg;
 
     /// The hop-by-hop reference of a pass (`Node::put_out` on the fast path at every hop).
     fn reference(

@@ -269,18 +269,7 @@ impl WakeQueue {
 mod tests {
     use super::*;
     use crate::event_queue::{ComponentId, EventQueue};
-
-    /// A small deterministic generator (no dependency for a unit test).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self, n: u64) -> u64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (self.0 >> 33) % n
-        }
-    }
+    use crate::sim::test_lcg::Lcg;
 
     /// The wake queue gives the same events in the same order as the general event queue
     /// used the way the simulation used it (one wake per node, cancel and reschedule).
