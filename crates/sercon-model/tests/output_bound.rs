@@ -8,7 +8,7 @@ mod pair_setup;
 
 mod common;
 
-use pair_setup::{Shape, chips};
+use pair_setup::{Shape, any_shape, chips};
 use proptest::prelude::*;
 use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
 use sercon_model::{Chip, ChipConfig};
@@ -250,18 +250,11 @@ proptest! {
 
     // Any pair shape (cycle, telegram times, fibre delay, the master repeating too).
     #[test]
-    fn any_pair_keeps_its_promises(
-        tscyc in 90u16..200,
-        mdt_trt in 1u16..30,
-        at_trt in 30u16..80,
-        delay_ns in 50u64..4000,
-        master_repeats in any::<bool>(),
-    ) {
-        let shape = Shape { tscyc, mdt_trt, at_trt, delay_ns, master_repeats };
+    fn any_pair_keeps_its_promises(shape in any_shape()) {
         let mut pair = chips(shape);
         let seen = run(
             &mut pair,
-            Duration::from_nanos(delay_ns),
+            Duration::from_nanos(shape.delay_ns),
             Instant::ZERO + Duration::from_micros(300),
         );
         prop_assert!(seen.released[1] > 4, "{:?}", seen);

@@ -11,7 +11,7 @@ mod pair_loop;
 mod pair_setup;
 
 use pair_loop::Pair;
-use pair_setup::{Shape, chips};
+use pair_setup::{Shape, any_shape, chips};
 use proptest::prelude::*;
 use sercon_model::Chip;
 use sercon_model::pins::Pin;
@@ -104,13 +104,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]
 
     #[test]
-    fn any_pair_runs_as_the_stepped_pair(
-        tscyc in 90u16..200,
-        mdt_trt in 1u16..30,
-        at_trt in 30u16..80,
-        delay_ns in 50u64..4000,
-        master_repeats in any::<bool>(),
-    ) {
-        check(Shape { tscyc, mdt_trt, at_trt, delay_ns, master_repeats }, 300);
+    fn any_pair_runs_as_the_stepped_pair(shape in any_shape()) {
+        check(shape, 300);
     }
 }

@@ -43,6 +43,23 @@ impl Shape {
     };
 }
 
+/// Any pair shape the property tests try: cycle 45–100 µs, MDT 0.5–15 µs and AT 15–40 µs
+/// after the MST, 50 ns–4 µs of fibre, the master's repeater on or off.
+// The bench does not use it.
+#[allow(dead_code)]
+pub fn any_shape() -> impl proptest::strategy::Strategy<Value = Shape> {
+    use proptest::prelude::*;
+    (90u16..200, 1u16..30, 30u16..80, 50u64..4000, any::<bool>()).prop_map(
+        |(tscyc, mdt_trt, at_trt, delay_ns, master_repeats)| Shape {
+            tscyc,
+            mdt_trt,
+            at_trt,
+            delay_ns,
+            master_repeats,
+        },
+    )
+}
+
 /// A SERCON816 at 16 Mbit/s (816 §2.3.1) with a 0.5 µs unit (410B §4.1 0EH MCLKDIV = 15).
 fn chip(tscyc: u16) -> Chip {
     let mut c = Chip::new(ChipConfig::sercon816());
