@@ -273,35 +273,37 @@ fn unwoken_forwarded_copies_keep_the_exact_trace_and_nothing_late() {
     }
 }
 
-/// The fast path lets a chip sleep until its next possible own telegram
-/// (`Chip::next_output_bound`, 410B §4.2.1 TRT) and processes its receive telegrams at the
-/// next advance: at the end of the run every chip holds what the exact path's chips hold
-/// (RAM: received data, VAL, NERR, NMSTERR, TEND; registers: status, counters, flags;
-/// not a slave's REACTN, see below), with far fewer events.
-#[test]
-fn sleeping_through_receive_events_leaves_every_chip_as_the_exact_path() {
-    let slaves = 12;
-    let mut states = Vec::new();
-    let mut events = Vec::new();
-    for delivery in [Delivery::Exact, Delivery::Fast] {
-        let (cfg, hosts, _) = build(&compared_ring(slaves, delivery));
-        let (mut sim, _) = run(cfg, hosts, us(1100));
-        events.push(sim.stats().events);
-        let mut chips = Vec::new();
-        for i in 0..=slaves {
+/// Every chip's RAM and registers after running `ring` to `until` the exact way and the fast
+/// way (a slave's 3H.15 REACTN left out: the fast path gives slaves no other slave's AT,
+/// spec-notes "Fast path = reference path"), and the events of each run.
+fn exact_and_fast_states(ring: &StaticRing, until: Instant) -> ([ChipStates; 2], [u64; 2]) {
+    let mut states: [ChipStates; 2] = Default::default();
+    let mut events = [0; 2];
+    for (k, delivery) in [Delivery::Exact, Delivery::Fast].into_iter().enumerate() {
+        let mut ring = ring.clone();
+        ring.delivery = delivery;
+        let (cfg, hosts, _) = build(&ring);
+        let (mut sim, _) = run(cfg, hosts, until);
+        events[k] = sim.stats().events;
+        for i in 0..=ring.slaves {
             let chip = sim.chip_mut(i).expect("node");
             let ram: Vec<u16> = (0..2048).map(|a| chip.read_ram(a)).collect();
             let mut regs: Vec<u16> = (0..0x40u8).map(|a| chip.read_register(a)).collect();
             if i > 0 {
-                // 3H.15 REACTN of a slave: the fast path gives slaves no other slave's AT
-                // (spec-notes "Fast path = reference path"), so it does not show them.
                 regs[3] &= !(1 << 15);
             }
-            chips.push((ram, regs));
+            states[k].push((ram, regs));
         }
-        states.push(chips);
     }
-    // Which words differ, as (address, exact, fast).
+    (states, events)
+}
+
+/// RAM and registers of each node.
+type ChipStates = Vec<(Vec<u16>, Vec<u16>)>;
+
+/// The first node whose state differs, with the words that differ as (address, exact,
+/// fast).
+fn first_difference(states: &[ChipStates; 2]) -> Option<String> {
     let differ = |a: &[u16], b: &[u16]| -> Vec<(usize, u16, u16)> {
         a.iter()
             .zip(b)
@@ -310,20 +312,58 @@ fn sleeping_through_receive_events_leaves_every_chip_as_the_exact_path() {
             .map(|(k, (x, y))| (k, *x, *y))
             .collect()
     };
-    for (i, (a, b)) in states[0].iter().zip(&states[1]).enumerate() {
-        let ram = differ(&a.0, &b.0);
-        let regs = differ(&a.1, &b.1);
-        assert!(
-            ram.is_empty() && regs.is_empty(),
-            "node {i}: RAM {ram:x?} registers {regs:x?}"
-        );
-    }
+    states[0]
+        .iter()
+        .zip(&states[1])
+        .enumerate()
+        .find_map(|(i, (a, b))| {
+            let (ram, regs) = (differ(&a.0, &b.0), differ(&a.1, &b.1));
+            (!ram.is_empty() || !regs.is_empty())
+                .then(|| format!("node {i}: RAM {ram:x?} registers {regs:x?}"))
+        })
+}
+
+/// The fast path lets a chip sleep until its next possible own telegram
+/// (`Chip::next_output_bound`, 410B §4.2.1 TRT) and processes its receive telegrams at the
+/// next advance: at the end of the run every chip holds what the exact path's chips hold
+/// (RAM: received data, VAL, NERR, NMSTERR, TEND; registers: status, counters, flags), with
+/// far fewer events.
+#[test]
+fn sleeping_through_receive_events_leaves_every_chip_as_the_exact_path() {
+    let (states, events) = exact_and_fast_states(&compared_ring(12, Delivery::Fast), us(1100));
+    assert_eq!(first_difference(&states), None);
     assert!(
         events[1] * 2 < events[0],
         "fast {} events, exact {}",
         events[1],
         events[0]
     );
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(12))]
+
+    // The same for any small ring: bit rate, cycle, data words, fibre length, and a run that
+    // ends anywhere in a cycle (chips asleep in the middle of their receive events).
+    #[test]
+    fn any_ring_leaves_every_chip_as_the_exact_path(
+        slaves in 1usize..=5,
+        rate in 0usize..4,
+        cycle_us in 250u16..=1000,
+        mdt_words in 1u16..=4,
+        at_words in 1u16..=4,
+        fibre_m in 1u32..=300,
+        end_us in 1500u64..=3000,
+    ) {
+        let mut ring = StaticRing::new(slaves, cycle_us);
+        ring.bit_rate = [BitRate::Mbit2, BitRate::Mbit4, BitRate::Mbit8, BitRate::Mbit16][rate];
+        ring.mdt_words = mdt_words;
+        ring.at_words = at_words;
+        ring.fibre_m = fibre_m;
+        proptest::prop_assume!(ring.build().is_ok());
+        let (states, _) = exact_and_fast_states(&ring, us(end_us));
+        proptest::prop_assert_eq!(first_difference(&states), None);
+    }
 }
 
 #[test]
