@@ -3,6 +3,10 @@
 //! ring simulation relies on when it lets a chip sleep through its receive events; 410B
 //! §4.2.1 TRT: a transmit telegram starts TRT after the end of the MST, never earlier).
 
+// The stepped reference run (its event loop is not used here).
+#[path = "../benches/support/pair_loop.rs"]
+#[allow(dead_code)]
+mod pair_loop;
 #[path = "../benches/support/pair_setup.rs"]
 mod pair_setup;
 
@@ -41,34 +45,30 @@ struct Seen {
 /// Runs `pair` to `until` in steps of half the fibre delay (every segment reaches the
 /// other chip before its time passes the start) and checks the promise at every step.
 fn run(pair: &mut [Chip; 2], delay: Duration, until: Instant) -> Seen {
-    let step = Duration::from_picos((delay.as_picos() / 2).max(1));
-    let mut now = Instant::ZERO;
-    let mut seen = Seen::default();
-    let mut buf = Vec::new();
-    while now < until {
-        now = (now + step).min(until);
-        for i in 0..2 {
-            let c = &mut pair[i];
-            let p = promise(c);
+    let mut skipped = [0; 2];
+    let mut released = [0; 2];
+    pair_loop::stepped(
+        pair,
+        delay,
+        until,
+        |i, c| {
             if let (Some(b), Some(e)) = (c.next_output_bound(), c.next_internal_event_at())
                 && b > e
             {
-                seen.skipped[i] += 1;
+                skipped[i] += 1;
             }
-            c.advance_to(now);
-            c.take_line_output(&mut buf);
-            for seg in buf.drain(..) {
-                assert!(
-                    p.is_some_and(|p| seg.start >= p),
-                    "chip {i}: a segment at {:?} before the promise {p:?}",
-                    seg.start
-                );
-                seen.released[i] += 1;
-                pair[1 - i].line_input(seg.delayed(delay));
-            }
-        }
-    }
-    seen
+            promise(c)
+        },
+        |i, p, seg| {
+            assert!(
+                p.is_some_and(|p| seg.start >= p),
+                "chip {i}: a segment at {:?} before the promise {p:?}",
+                seg.start
+            );
+            released[i] += 1;
+        },
+    );
+    Seen { released, skipped }
 }
 
 // 410B §4.2.1 TRT: the master's MDT and the slave's AT start at their TRT after the MST;

@@ -21,21 +21,14 @@ use sercos_wire::time::{Duration, Instant};
 
 /// Runs `chips` to `until` in steps of half the fibre delay; the segments handed over.
 fn stepped(chips: &mut [Chip; 2], delay: Duration, until: Instant) -> Vec<(usize, LineSegment)> {
-    let step = Duration::from_picos((delay.as_picos() / 2).max(1));
-    let mut now = Instant::ZERO;
     let mut log = Vec::new();
-    let mut buf = Vec::new();
-    while now < until {
-        now = (now + step).min(until);
-        for i in 0..2 {
-            chips[i].advance_to(now);
-            chips[i].take_line_output(&mut buf);
-            for seg in buf.drain(..) {
-                log.push((i, seg.clone()));
-                chips[1 - i].line_input(seg.delayed(delay));
-            }
-        }
-    }
+    pair_loop::stepped(
+        chips,
+        delay,
+        until,
+        |_, _| (),
+        |i, _, seg| log.push((i, seg.clone())),
+    );
     log
 }
 

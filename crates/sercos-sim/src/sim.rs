@@ -133,7 +133,9 @@ pub struct Simulation {
 /// How a node's next wake is found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Lookahead {
-    /// At the chip's next internal event (`Chip::next_event_at`): more wakes, each cheap.
+    /// At the chip's next possible own output (`Chip::next_output_bound`, which is its next
+    /// internal event when a pin or an interrupt output can be seen) on the fast path, at
+    /// its next event (`Chip::next_event_at`) on the exact one: more wakes, each cheap.
     #[default]
     Events,
     /// At the chip's next observable instant (`Chip::next_deadline`): fewer wakes, each
