@@ -4,16 +4,11 @@
 //! The runs use 8 Mbit/s: at 16 Mbit/s the master does not bring the ring up yet (see
 //! `default_ring_reaches_phase_4`).
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod cli_support;
 
-fn sercon(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sercon"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("sercon runs")
-}
+use cli_support::sercon;
+use std::path::Path;
+use std::process::Output;
 
 fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()

@@ -1,16 +1,10 @@
 //! `sercon ring --telegram-type N` (S-0-0015, sercos-facts.md "0–6 standard, 7 configured")
 //! and the refusal of a cycle too short for the drives before the phase-up starts.
 
-use std::process::{Command, Output};
-use std::time::{Duration, Instant};
+mod cli_support;
 
-fn sercon(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sercon"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("sercon runs")
-}
+use cli_support::sercon;
+use std::time::{Duration, Instant};
 
 // sercos-facts.md S-0-0015: standard type 3 (MDT S-0-0036, AT S-0-0051) reaches phase 4 and
 // the report names the type every drive was given.
