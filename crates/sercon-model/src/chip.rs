@@ -50,6 +50,14 @@ pub struct Chip {
     /// Last traced levels of DMAREQR / DMAREQT in static mode, and the tick of the last
     /// traced pulse in pulsed mode (410B §2 pins 38, 39; §4.1 1H.14 DMAMODE).
     pub(crate) dma_trace: [(bool, Option<u64>); 2],
+    /// The telegram-processor part of [`Chip::next_output_bound`] (the MCLK tick of the
+    /// next possible own telegram or, for a master, cycle start), as last computed
+    /// (`Some`); `None` once an advance that processed anything, a bus access or a
+    /// received MST may have moved it. Other line inputs keep it: they only queue frames
+    /// the bound ignores (a slave's block starts with an MST, 410B §4.2.1 TRT) and
+    /// serial-port changes, which the bound reads afresh. A simulation asks for the bound
+    /// after every delivery; most deliveries then cost a load here instead of a walk.
+    pub(crate) out_bound: std::cell::Cell<Option<Option<u64>>>,
 }
 
 impl Chip {
@@ -86,6 +94,7 @@ impl Chip {
             next_core: None,
             tp_next: None,
             dma_trace: [(false, None); 2],
+            out_bound: std::cell::Cell::new(None),
         }
     }
 
@@ -122,6 +131,8 @@ impl Chip {
                     return;
                 }
             }
+            // Something is processed: the bound is found afresh.
+            self.out_bound.set(None);
             let limit = self.clock.tick_at_or_before(t);
             let mut tp_next = match self.tp_next.take() {
                 Some(memo) => memo,
@@ -245,6 +256,7 @@ impl Chip {
         self.tp_next = None;
         self.engine.next_memo = None;
         self.tp.tx_ahead.set(None);
+        self.out_bound.set(None);
     }
 
     /// The next instant after [`Chip::now`] at which something observable happens: a
@@ -309,20 +321,37 @@ impl Chip {
         if !self.traced.is_empty() || s.enint[0] || s.enint[1] || self.engine.wd.running {
             return Some(internal);
         }
-        let mut tick = crate::telegram_processor::next_tx_bound(self);
-        if !s.is_sercos_slave() {
-            // 410B §4.1 0CH: a master's (or a non-SERCOS) cycle start sends the MST or
-            // starts a block.
-            tick = match (tick, self.engine.next_tick()) {
-                (Some(a), Some(b)) => Some(a.min(b)),
-                (a, b) => a.or(b),
-            };
-        }
+        let tick = match self.out_bound.get() {
+            Some(memo) => {
+                debug_assert_eq!(memo, self.output_bound_tick(), "stale out_bound");
+                memo
+            }
+            None => {
+                let tick = self.output_bound_tick();
+                self.out_bound.set(Some(tick));
+                tick
+            }
+        };
         let bound = earliest(
             tick.map(|k| self.clock.instant(k)),
             self.serial_next_loud_event(),
         )?;
         Some(bound.max(internal))
+    }
+
+    /// The telegram-processor part of [`Chip::next_output_bound`]: the MCLK tick of the
+    /// next possible own telegram, and for a master also its next cycle start.
+    fn output_bound_tick(&self) -> Option<u64> {
+        let tick = crate::telegram_processor::next_tx_bound(self);
+        if self.engine.s.is_sercos_slave() {
+            return tick;
+        }
+        // 410B §4.1 0CH: a master's (or a non-SERCOS) cycle start sends the MST or starts
+        // a block.
+        match (tick, self.engine.next_tick()) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
     }
 
     /// Chooses which pins produce [`PinEvent`]s from now on.

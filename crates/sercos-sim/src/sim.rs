@@ -94,6 +94,10 @@ pub struct Simulation {
     stats: SimStats,
     touched: Vec<usize>,
     is_touched: Vec<bool>,
+    /// Nodes a delivery ahead of their chip left with nothing to serve: only their wake
+    /// is set again, after the touched ones are served.
+    rewake: Vec<usize>,
+    is_rewake: Vec<bool>,
     buf: Vec<LineSegment>,
     pins: Vec<PinEvent>,
     bus_busy_until: Instant,
@@ -281,6 +285,8 @@ impl Simulation {
             stats: SimStats::default(),
             touched: Vec::new(),
             is_touched: vec![false; n],
+            rewake: Vec::new(),
+            is_rewake: vec![false; n],
             buf: Vec::new(),
             pins: Vec::new(),
             bus_busy_until: Instant::ZERO,
@@ -469,6 +475,7 @@ impl Simulation {
     fn settle_rounds(&mut self, used: usize) -> Result<(), SimError> {
         for _ in used..MAX_SETTLE_ROUNDS {
             let Some(j) = self.touched.pop() else {
+                self.set_rewakes();
                 return Ok(());
             };
             if let Some(t) = self.is_touched.get_mut(j) {
@@ -484,7 +491,18 @@ impl Simulation {
             }
             self.reschedule(j)?;
         }
+        self.set_rewakes();
         Ok(())
+    }
+
+    /// Sets the wakes of the nodes deliveries left to be rescheduled only.
+    fn set_rewakes(&mut self) {
+        while let Some(j) = self.rewake.pop() {
+            if let Some(r) = self.is_rewake.get_mut(j) {
+                *r = false;
+            }
+            self.set_wake(j);
+        }
     }
 
     /// Pin events to the VCD, host wakes, outputs to the line; then whether slave
@@ -773,36 +791,53 @@ impl Simulation {
         // frames are taken at that wake) and would get a wake no earlier. It keeps its
         // wake; if nothing is due then, that wake only sets the next one. Debug builds check
         // that the wake it would get is not earlier.
-        if ahead
-            && node.quiet_host()
-            && node.wake.is_some_and(|w| w <= start)
-            && !self.is_touched.get(j).copied().unwrap_or(true)
-        {
-            debug_assert!(
-                self.next_wake(j).is_none_or(|w| {
-                    w.is_none_or(|w| self.nodes.get(j).and_then(|n| n.wake) <= Some(w))
-                }),
-                "a delivery ahead of the chip made its next wake earlier"
-            );
-            return;
+        if ahead && node.quiet_host() && !self.is_touched.get(j).copied().unwrap_or(true) {
+            if node.wake.is_some_and(|w| w <= start) {
+                debug_assert!(
+                    self.next_wake(j).is_none_or(|w| {
+                        w.is_none_or(|w| self.nodes.get(j).and_then(|n| n.wake) <= Some(w))
+                    }),
+                    "a delivery ahead of the chip made its next wake earlier"
+                );
+                return;
+            }
+            if !node.chip.line_output_due() {
+                // Serving it would find nothing to do but its next wake (no host due, no
+                // output, nothing traced): only that is set, once the event's nodes are
+                // served (its wake may only come earlier: the input adds frames and
+                // changes). After them, so that a node woken now sets its own wake
+                // first, where the queue keeps it (`WakeQueue` module notes).
+                if let Some(r) = self.is_rewake.get_mut(j)
+                    && !*r
+                {
+                    *r = true;
+                    self.rewake.push(j);
+                }
+                return;
+            }
         }
         self.touch(j);
     }
 
     /// Schedules node `j`'s next wake.
     fn reschedule(&mut self, j: usize) -> Result<(), SimError> {
+        self.set_wake(j);
+        Ok(())
+    }
+
+    /// Sets node `j`'s wake to [`Simulation::next_wake`].
+    fn set_wake(&mut self, j: usize) {
         let Some(wake) = self.next_wake(j) else {
-            return Ok(());
+            return;
         };
         let Some(node) = self.nodes.get_mut(j) else {
-            return Ok(());
+            return;
         };
         node.wake = wake;
         match wake {
             Some(g) => self.queue.set(j, g),
             None => self.queue.remove(j),
         }
-        Ok(())
     }
 
     /// Node `j`'s next wake as [`Simulation::reschedule`] sets it; `None` when the pending

@@ -37,13 +37,19 @@ impl Chip {
         let mut quiet = seg.start > now && self.next_core.is_some();
         // The telegram processor takes every frame the receiver saw (contract with tp), as
         // the receiver decodes it (no list in between: a frame is moved once).
-        let (clock, next_core, tp_next, tp) = (
+        let (clock, next_core, tp_next, tp, out_bound) = (
             &self.clock,
             &mut self.next_core,
             &mut self.tp_next,
             &mut self.tp,
+            &self.out_bound,
         );
         self.serial.line_input(seg, |f| {
+            if crate::telegram_processor::frame_is_mst(&f.bytes) {
+                // A slave's block starts with the MST it receives (410B §4.2.1 TRT):
+                // the output bound is found afresh.
+                out_bound.set(None);
+            }
             let tick = clock.tick_at_or_after(f.start);
             if let Some(core) = next_core.as_mut() {
                 let at = clock.instant(tick);
@@ -76,6 +82,12 @@ impl Chip {
     pub fn take_line_output(&mut self, out: &mut Vec<LineSegment>) {
         let now = self.now;
         self.serial.take_output(now, out);
+    }
+
+    /// Whether [`Chip::take_line_output`] would hand anything over now (an output segment
+    /// starts at or before [`Chip::now`]).
+    pub fn line_output_due(&self) -> bool {
+        self.serial.output_due(self.now)
     }
 
     /// When the next output segment not yet given by [`Chip::take_line_output`] starts.

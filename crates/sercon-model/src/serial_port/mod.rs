@@ -235,9 +235,14 @@ impl SerialPort {
         Some(placed.end)
     }
 
+    /// Whether [`SerialPort::take_output`] at `now` would hand anything over.
+    pub(crate) fn output_due(&self, now: Instant) -> bool {
+        self.tx.next_release_at().is_some_and(|t| t <= now) || !self.tx.nothing_released()
+    }
+
     /// Releases the output segments that start at or before `now` and moves them to `out`.
     pub(crate) fn take_output(&mut self, now: Instant, out: &mut Vec<LineSegment>) {
-        if self.tx.next_release_at().is_none_or(|t| t > now) && self.tx.nothing_released() {
+        if !self.output_due(now) {
             // Most turns of an event loop: nothing to hand over.
             return;
         }

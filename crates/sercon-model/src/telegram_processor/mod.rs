@@ -270,6 +270,11 @@ impl TelegramProcessor {
     }
 }
 
+/// Whether a received frame is an MST (ADR 255 and one byte, 410B §4.2).
+pub(crate) fn frame_is_mst(bytes: &[u8]) -> bool {
+    receive::is_mst(bytes)
+}
+
 /// The tick of the first queued frame's start.
 pub(crate) fn first_frame_tick(chip: &Chip) -> Option<u64> {
     chip.tp.rx_queue.front().map(|(tick, _)| *tick)

@@ -132,6 +132,8 @@ impl Simulation {
         if cost == Duration::ZERO {
             return Ok(());
         }
+        // The queue must hold every node's wake before it is asked below.
+        self.set_rewakes();
         let Some(node) = self.nodes.get(j) else {
             return Ok(());
         };
