@@ -94,6 +94,7 @@ fuzz_target!(|data: &[u8]| {
                     level_before: a & 4 != 0,
                     hint,
                     distorted: a & 8 != 0,
+                    then_filler: *b & 1 == 1,
                 };
                 next_start = seg.end().unwrap_or(start);
                 chip.line_input(seg);

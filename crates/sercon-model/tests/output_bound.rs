@@ -132,6 +132,7 @@ fn frame(start: Instant, bytes: &[u8]) -> LineSegment {
             offset: 0,
         }),
         distorted: false,
+        then_filler: false,
     }
 }
 
@@ -296,6 +297,7 @@ proptest! {
                     level_before: false,
                     hint: Some(FrameHint { telegram: Shared::from(&bytes[..]), offset: 0 }),
                     distorted: false,
+                    then_filler: false,
                 });
             }
             let p = promise(&chip);

@@ -88,6 +88,8 @@ proptest! {
                         level_before,
                         hint: hint.map(|t| FrameHint { telegram: t.into(), offset: bits.len() as u64 / 2 }),
                         distorted,
+                        // Some telegrams carry their filler (LineSegment::then_filler).
+                        then_filler: gap_ns % 3 == 0,
                     };
                     next = seg.end().unwrap_or(start);
                     chip.line_input(seg);

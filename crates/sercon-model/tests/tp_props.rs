@@ -55,6 +55,7 @@ proptest! {
                 level_before: false,
                 hint,
                 distorted: false,
+                then_filler: false,
             });
         }
         // Bounded steps: a few hundred µs in 10 µs hops.

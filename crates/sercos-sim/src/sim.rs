@@ -187,6 +187,8 @@ impl Simulation {
             // The receive log is for tools; nothing here reads it (every frame still goes
             // to the telegram processor).
             chip.set_rx_log(false);
+            // Fast path: a telegram and the filler after it travel as one segment.
+            chip.set_implied_filler(cfg.delivery == Delivery::Fast);
             let clock = NodeClock::new(ppm_to_ppb(nc.mclk_error_ppm));
             let mut node = Node::new(nc.clone(), chip, host, clock);
             node.track_levels = cfg.delivery == Delivery::Exact;
@@ -604,7 +606,10 @@ impl Simulation {
             origin = o;
         }
         if matches!(seg.signal, LineSignal::Bits(_)) {
-            node.resume = seg.end();
+            // The chip's output after its own telegram is taken at the end of it, unless
+            // the telegram carries it (an implied filler: any other output then is the
+            // chip's next own output, `Chip::next_line_output_except`).
+            node.resume = seg.end().filter(|_| !seg.then_filler);
         }
         let mut g = seg;
         g.start = node.clock.to_global(g.start);
@@ -642,6 +647,15 @@ impl Simulation {
                 self.pass_plain(&mut cur, &mut seg);
             }
             let next = (cur + 1) % n;
+            if seg.then_filler && enter && self.splits_filler(cur) {
+                // The fibre's faults or traces take the telegram and its filler apart.
+                let (bits, filler) = seg.split_filler();
+                self.propagate(cur, bits, origin, true);
+                if let Some(f) = filler {
+                    self.propagate(cur, f, origin, true);
+                }
+                return;
+            }
             let Some(s) = self.segments.get_mut(cur) else {
                 return;
             };
@@ -700,8 +714,19 @@ impl Simulation {
         }
     }
 
+    /// Whether a segment entering fibre `k` is taken as its bits and their filler: the
+    /// fibre has faults, keeps what entered it or is traced.
+    fn splits_filler(&self, k: usize) -> bool {
+        self.segments
+            .get(k)
+            .is_none_or(|s| s.keep_last || !s.faults.is_clean())
+            || self.recorder.wants(k)
+    }
+
     /// 410B Fig. 4: the bus carries own telegrams only; overlapping ones are garbled.
     fn propagate_bus(&mut self, seg: LineSegment, origin: usize) {
+        // Only the telegram: the bus carries no filler.
+        let (seg, _) = seg.split_filler();
         let LineSignal::Bits(bits) = &seg.signal else {
             return;
         };
@@ -792,6 +817,10 @@ impl Simulation {
         // wake; if nothing is due then, that wake only sets the next one. Debug builds check
         // that the wake it would get is not earlier.
         if ahead && node.quiet_host() && !self.is_touched.get(j).copied().unwrap_or(true) {
+            if self.is_rewake.get(j).copied().unwrap_or(false) {
+                // Its wake is set once the event's nodes are served, after this input too.
+                return;
+            }
             if node.wake.is_some_and(|w| w <= start) {
                 debug_assert!(
                     self.next_wake(j).is_none_or(|w| {
@@ -972,6 +1001,7 @@ impl Simulation {
                 n.chip = Chip::new(cfg);
                 // The receive log is for tools; nothing here reads it.
                 n.chip.set_rx_log(false);
+                n.chip.set_implied_filler(self.delivery == Delivery::Fast);
                 let local = n.clock.to_local(t);
                 n.chip.advance_to(local);
                 if let Some(v) = n.vcd {

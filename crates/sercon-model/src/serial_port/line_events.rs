@@ -173,6 +173,26 @@ impl LineEvents {
         self.fronts = self.compute_fronts();
     }
 
+    /// Number of scheduled FIBBR / RDIST changes.
+    pub(crate) fn status_len(&self) -> usize {
+        self.status.len()
+    }
+
+    /// The last scheduled FIBBR / RDIST change `back` places from the end (0: the last).
+    pub(crate) fn status_from_back(&self, back: usize) -> Option<(Instant, Change)> {
+        let i = self.status.len().checked_sub(back + 1)?;
+        self.status.get(i).copied()
+    }
+
+    /// Takes back a FIBBR / RDIST change scheduled lately, if it is still pending (the last
+    /// entry equal to it).
+    pub(crate) fn unschedule_status(&mut self, entry: (Instant, Change)) {
+        if let Some(i) = self.status.iter().rposition(|e| *e == entry) {
+            self.status.remove(i);
+            self.fronts = self.compute_fronts();
+        }
+    }
+
     /// The last scheduled FIBBR value, if any is scheduled.
     pub(crate) fn last_fibbr(&self) -> Option<bool> {
         self.status.iter().rev().find_map(|(_, c)| match c {

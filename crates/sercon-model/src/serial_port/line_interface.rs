@@ -136,6 +136,14 @@ impl Chip {
         self.serial.set_rx_log(on);
     }
 
+    /// Whether own telegrams carry the idle filler resumed after them
+    /// ([`LineSegment::then_filler`]; off after [`Chip::new`]). The line signal is the same
+    /// either way; a simulation that turns it on carries one segment per telegram instead of
+    /// two. It applies to telegrams released from now on.
+    pub fn set_implied_filler(&mut self, on: bool) {
+        self.serial.set_implied_filler(on);
+    }
+
     /// Sends `telegram` (ADR and data, no FCS) from `at` (≥ [`Chip::now`]) as the telegram
     /// processor does, e.g. for a tool that uses the serial interface on its own (410B §1,
     /// "other real-time communications tasks"). Returns the instant the closing flag has

@@ -235,6 +235,11 @@ impl SerialPort {
         Some(placed.end)
     }
 
+    /// Own telegrams carry the filler resumed after them (`Chip::set_implied_filler`).
+    pub(crate) fn set_implied_filler(&mut self, on: bool) {
+        self.tx.implied_filler = on;
+    }
+
     /// Whether [`SerialPort::take_output`] at `now` would hand anything over.
     pub(crate) fn output_due(&self, now: Instant) -> bool {
         self.tx.next_release_at().is_some_and(|t| t <= now) || !self.tx.nothing_released()

@@ -31,7 +31,8 @@ struct Running {
 pub(crate) struct Receiver {
     /// The last segment received (the line's signal from its start on).
     last: Option<LineSegment>,
-    running: Option<Running>,
+    /// Boxed: an implied filler sets it aside and back (a pointer, not the decoder).
+    running: Option<Box<Running>>,
     /// FIBBR rises here unless an edge comes first.
     pub(crate) fibbr_deadline: Option<Instant>,
     /// FIBBR as it will be after every scheduled change.
@@ -40,6 +41,22 @@ pub(crate) struct Receiver {
     open_filler: bool,
     /// FIBBR timeout of the last configuration.
     timeout: Duration,
+    /// The implied filler of the last segment ([`LineSegment::then_filler`]), taken at
+    /// once, and how to take it back if the next segment starts no later than the filler
+    /// (then there was none).
+    implied: Option<ImpliedFiller>,
+}
+
+/// The receiver as it was before it took an implied filler, and what that scheduled.
+#[derive(Debug, Clone)]
+struct ImpliedFiller {
+    /// Where the filler starts (the end of the bits).
+    at: Instant,
+    fibbr_deadline: Option<Instant>,
+    fibbr_future: bool,
+    running: Option<Box<Running>>,
+    /// FIBBR / RDIST changes the filler scheduled.
+    scheduled: [Option<(Instant, Change)>; 3],
 }
 
 /// Where decoded frames go.
@@ -94,6 +111,9 @@ impl Receiver {
     }
 
     /// Takes one segment of the line input (light levels) at or after the previous one.
+    /// A segment with an implied filler is taken as the two segments it stands for
+    /// ([`LineSegment::split_filler`]); when the next segment starts no later than that
+    /// filler, the filler is taken back first, so the receiver ends as if it had never come.
     pub(crate) fn input<F: FnMut(HeardFrame)>(
         &mut self,
         seg: LineSegment,
@@ -101,6 +121,71 @@ impl Receiver {
         sinks: Sinks<'_, F>,
     ) {
         let Sinks { events, frames } = sinks;
+        if let Some(undo) = self.implied.take()
+            && seg.start <= undo.at
+        {
+            for entry in undo.scheduled.iter().rev().flatten() {
+                events.unschedule_status(*entry);
+            }
+            self.fibbr_deadline = undo.fibbr_deadline;
+            self.fibbr_future = undo.fibbr_future;
+            self.running = undo.running;
+            self.open_filler = false;
+            if let Some(last) = self.last.as_mut() {
+                last.then_filler = false;
+            }
+        }
+        let implied = seg.then_filler && matches!(seg.signal, LineSignal::Bits(_));
+        let end = seg.end();
+        self.input_one(seg, cfg, events, frames);
+        if implied && let Some(at) = end {
+            self.take_implied_filler(at, cfg, events);
+        }
+    }
+
+    /// Takes the filler implied after the last segment (a bits segment ending at `at`,
+    /// kept as `last` with its `then_filler`) as [`Receiver::input_one`] takes a
+    /// [`LineSignal::Filler`] segment starting at `at` from the line's level, and keeps what
+    /// it changed for taking it back.
+    fn take_implied_filler(&mut self, at: Instant, cfg: &PortConfig, events: &mut LineEvents) {
+        let Some(last) = &self.last else {
+            return;
+        };
+        let mismatch = cfg.bit_time.is_some_and(|bt| bt != last.bit_time);
+        let distorted = last.distorted || mismatch;
+        let before = events.status_len();
+        let fibbr_deadline = self.fibbr_deadline;
+        let fibbr_future = self.fibbr_future;
+        let running = self.running.take();
+        // 410B §4.1 2H.12 RDIST, as for any segment.
+        events.push(at, Change::Rdist(distorted));
+        // Filler: the light changes at the start of every bit time, from the line's level
+        // (its first edge at `at`); no FIBBR while it lasts (410B §4.1 2H.13).
+        self.edge(at, events);
+        self.fibbr_deadline = None;
+        self.open_filler = true;
+        let added = events.status_len().saturating_sub(before).min(3);
+        let mut scheduled = [None; 3];
+        for (k, slot) in scheduled.iter_mut().enumerate().take(added) {
+            *slot = events.status_from_back(added - 1 - k);
+        }
+        self.implied = Some(ImpliedFiller {
+            at,
+            fibbr_deadline,
+            fibbr_future,
+            running,
+            scheduled,
+        });
+    }
+
+    /// Takes one segment without implied filler.
+    fn input_one<F: FnMut(HeardFrame)>(
+        &mut self,
+        seg: LineSegment,
+        cfg: &PortConfig,
+        events: &mut LineEvents,
+        frames: &mut F,
+    ) {
         let own_bt = cfg.bit_time.unwrap_or(seg.bit_time);
         self.timeout = own_bt.saturating_mul(FIBBR_BIT_TIMES);
         let prev_level = self.last.as_ref().is_some_and(|l| l.level_at(seg.start));
@@ -115,15 +200,20 @@ impl Receiver {
             events.push(seg.start, Change::Reactn(true));
         }
         if self.open_filler {
-            // The filler's last edge before this segment.
+            // The filler's last edge before this segment (an implied filler starts where
+            // its bits end).
             if let Some(last) = &self.last {
+                let from = if last.then_filler {
+                    last.end().unwrap_or(last.start)
+                } else {
+                    last.start
+                };
                 let bt = last.bit_time.as_picos().max(1);
-                let elapsed = seg.start.saturating_duration_since(last.start).as_picos();
+                let elapsed = seg.start.saturating_duration_since(from).as_picos();
                 let begun = elapsed.div_ceil(bt);
                 if begun > 0 {
-                    let t = last
-                        .start
-                        .saturating_add(Duration::from_picos((begun - 1).saturating_mul(bt)));
+                    let t =
+                        from.saturating_add(Duration::from_picos((begun - 1).saturating_mul(bt)));
                     self.fibbr_deadline = Some(t.saturating_add(self.timeout));
                 }
             }
@@ -133,8 +223,13 @@ impl Receiver {
         // edges count, the data does not (spec-notes "Serial port": rate mismatch is RDIST).
         let mismatch = cfg.bit_time.is_some_and(|bt| bt != seg.bit_time);
         let distorted = seg.distorted || mismatch;
+        // A bits segment of no bits carries no signal (a steady hold after a telegram whose
+        // implied filler did not come): nothing to measure.
+        let empty = matches!(&seg.signal, LineSignal::Bits(b) if b.is_empty());
         // 410B §4.1 2H.12 RDIST: "Receive data over distortion limit" while such a signal lasts.
-        events.push(seg.start, Change::Rdist(distorted));
+        if !empty {
+            events.push(seg.start, Change::Rdist(distorted));
+        }
         match &seg.signal {
             LineSignal::Dark | LineSignal::Light => {
                 let level = matches!(seg.signal, LineSignal::Light);
@@ -157,7 +252,7 @@ impl Receiver {
             }
             LineSignal::Bits(_) => {
                 let end = seg.end().unwrap_or(seg.start);
-                if distorted {
+                if distorted && !empty {
                     events.push(end, Change::Rdist(false));
                 }
                 let hinted = seg.hint.as_ref().filter(|_| {
@@ -238,12 +333,12 @@ impl Receiver {
             .as_ref()
             .is_some_and(|r| r.next_start == seg.start && r.bit_time == seg.bit_time);
         if !contiguous {
-            self.running = Some(Running {
+            self.running = Some(Box::new(Running {
                 decoder: Decoder::new(rx_line_config(cfg.rx_coding, cfg.polrxd, prev_level)),
                 base: seg.start,
                 bit_time: seg.bit_time,
                 next_start: seg.start,
-            });
+            }));
         }
         let Some(run) = self.running.as_mut() else {
             return;

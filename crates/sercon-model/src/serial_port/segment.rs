@@ -77,6 +77,16 @@ pub struct LineSegment {
     /// fault injector; a receiver reports RDIST while it lasts (410B §4.1 2H.12).
     #[doc(alias = "RDIST")]
     pub distorted: bool,
+    /// After the last bit of a [`LineSignal::Bits`] segment the line carries idle filler
+    /// until the next segment starts, exactly as if a [`LineSignal::Filler`] segment with
+    /// the same bit time and `distorted` flag started at [`LineSegment::end`] from the last
+    /// bit's level ([`LineSegment::split_filler`] makes that pair). A segment starting at
+    /// [`LineSegment::end`] or earlier leaves no filler (the same as `false`). `false`: the
+    /// line keeps the last bit's level. Ignored for the other signals.
+    ///
+    /// A chip sets it only when asked to ([`crate::Chip::set_implied_filler`]): a telegram
+    /// and the filler after it then travel as one segment.
+    pub then_filler: bool,
 }
 
 impl LineSegment {
@@ -94,6 +104,7 @@ impl LineSegment {
             level_before,
             hint: None,
             distorted: false,
+            then_filler: false,
         }
     }
 
@@ -106,6 +117,7 @@ impl LineSegment {
             level_before,
             hint: None,
             distorted: false,
+            then_filler: false,
         }
     }
 
@@ -140,12 +152,37 @@ impl LineSegment {
                     return self.level_before;
                 }
                 let idx = usize::try_from(begun.min(b.len())).unwrap_or(usize::MAX);
-                match idx.checked_sub(1) {
+                let last = match idx.checked_sub(1) {
                     Some(i) => b.bits().get(i).unwrap_or(self.level_before),
                     None => self.level_before,
+                };
+                if self.then_filler && begun > b.len() {
+                    // The implied filler toggles at the start of each of its bit times.
+                    return last ^ ((begun - b.len()) & 1 == 1);
                 }
+                last
             }
         }
+    }
+
+    /// The segment as the pair it stands for: the bits without `then_filler`, and the
+    /// [`LineSignal::Filler`] segment that follows them when `then_filler` is set.
+    pub fn split_filler(mut self) -> (LineSegment, Option<LineSegment>) {
+        if !self.then_filler {
+            return (self, None);
+        }
+        self.then_filler = false;
+        let filler = match self.end() {
+            Some(end) => {
+                let level = self.level_at(end);
+                Some(LineSegment {
+                    distorted: self.distorted,
+                    ..LineSegment::steady(end, self.bit_time, LineSignal::Filler, level)
+                })
+            }
+            None => None,
+        };
+        (self, filler)
     }
 
     /// The same segment `delay` later.
@@ -181,7 +218,20 @@ impl LineSegment {
                 let bt = self.bit_time.as_picos().max(1);
                 let skip = elapsed.div_ceil(bt);
                 if skip >= b.len() {
-                    return None;
+                    // Only the implied filler is left, if any: as its own segment (from
+                    // the end of the bits) would be cut at `t`.
+                    return self.then_filler.then(|| {
+                        let at = self.end().map_or(t, |e| e.max(t));
+                        LineSegment {
+                            distorted: self.distorted,
+                            ..LineSegment::steady(
+                                at,
+                                self.bit_time,
+                                LineSignal::Filler,
+                                self.level_at(at),
+                            )
+                        }
+                    });
                 }
                 let from = usize::try_from(skip).ok()?;
                 let to = usize::try_from(b.len()).ok()?;
@@ -196,6 +246,7 @@ impl LineSegment {
                     level_before,
                     hint: None,
                     distorted: self.distorted,
+                    then_filler: self.then_filler,
                 })
             }
             other => Some(LineSegment {
@@ -205,6 +256,7 @@ impl LineSegment {
                 level_before,
                 hint: None,
                 distorted: self.distorted,
+                then_filler: false,
             }),
         }
     }

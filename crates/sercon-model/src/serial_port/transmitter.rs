@@ -65,6 +65,14 @@ pub(crate) struct Transmitter {
     busy_until: Instant,
     /// The bits of the telegrams sent lately.
     coded: CodedFrames,
+    /// Own telegrams carry the filler resumed after them ([`LineSegment::then_filler`]).
+    pub(crate) implied_filler: bool,
+    /// The resume at `resume_at` is the filler the last own telegram implies: it sends
+    /// nothing (unless the background changes first).
+    silent_resume: bool,
+    /// The last segment released is an own telegram with `then_filler`: anything else in
+    /// its place at `resume_at` must be said (a steady hold if nothing else is).
+    implied_open: bool,
 }
 
 impl Own {
@@ -81,6 +89,7 @@ impl Own {
                 offset,
             }),
             distorted: false,
+            then_filler: false,
         })
     }
 }
@@ -152,12 +161,21 @@ impl Transmitter {
     }
 
     /// The instant the next own output starts: an own telegram, or the background resumed
-    /// after one (not a queued background segment).
+    /// after one (not a queued background segment, nor a resume the last own telegram's
+    /// implied filler stands for).
     pub(crate) fn next_own_release_at(&self) -> Option<Instant> {
-        match (self.own.front().map(|s| s.start), self.resume_at) {
+        let resume = self.resume_at.filter(|r| !self.resume_is_silent(*r));
+        match (self.own.front().map(|s| s.start), resume) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         }
+    }
+
+    /// Whether the resume at `at` will send nothing: the last own telegram implies the
+    /// filler it resumes, and no queued background segment starts before it (one would be
+    /// shadowed and resumed instead).
+    fn resume_is_silent(&self, at: Instant) -> bool {
+        self.silent_resume && self.background.front().is_none_or(|b| b.start >= at)
     }
 
     /// Starts of the queued background segments (forwarded input, filler), in order.
@@ -174,7 +192,7 @@ impl Transmitter {
                 };
                 // The NRZI coder continues from the level the line is at.
                 let level = self.level_at(t);
-                let Some(seg) = own.segment(level, &mut self.coded) else {
+                let Some(mut seg) = own.segment(level, &mut self.coded) else {
                     continue;
                 };
                 if self.last_is_bg {
@@ -184,13 +202,26 @@ impl Transmitter {
                 }
                 self.own_until = seg.end().unwrap_or(t);
                 self.resume_at = Some(self.own_until);
+                // The background resumed after it is plain filler of the same bit time
+                // (a master's idle signal, or the filler a slave repeats): it travels with
+                // the telegram, and the resume sends nothing unless that changes.
+                self.silent_resume = self.implied_filler
+                    && self
+                        .bg_active
+                        .as_ref()
+                        .is_some_and(|bg| resumes_filler(bg, self.own_until, seg.bit_time));
+                seg.then_filler = self.silent_resume;
+                let open = seg.then_filler;
                 self.emit(seg);
+                self.implied_open = open;
             } else if self.background.front().is_some_and(|s| s.start == t) {
                 let Some(seg) = self.background.pop_front() else {
                     break;
                 };
                 if t >= self.own_until {
+                    // It takes the resume's place (an implied filler is cut at once).
                     self.resume_at = None;
+                    self.silent_resume = false;
                     // A forwarded telegram after an own one continues from the level the
                     // line is at, as own telegrams do (NRZI decodes it the same; without
                     // this its first flag bit would be lost downstream).
@@ -205,12 +236,15 @@ impl Transmitter {
                         self.last_is_bg = true;
                     }
                 } else {
-                    // Shadowed by the own telegram being sent.
+                    // Shadowed by the own telegram being sent: resumed instead.
                     self.bg_active = Some(seg);
+                    self.silent_resume = false;
                 }
             } else {
                 self.resume_at = None;
+                let silent = std::mem::take(&mut self.silent_resume);
                 let rest = self.bg_active.as_ref().and_then(|bg| bg.from_instant(t));
+                let mut sent = false;
                 if let Some(mut rest) = rest {
                     if rest.start > t {
                         // A bits segment resumes at its first bit boundary after `t`: it is
@@ -219,13 +253,34 @@ impl Transmitter {
                         if self.background.front().is_none_or(|b| b.start > rest.start) {
                             self.background.push_front(rest);
                         }
-                        continue;
+                    } else {
+                        if !matches!(rest.signal, LineSignal::Bits(_)) {
+                            // A steady signal starts afresh from the level the own telegram
+                            // left.
+                            rest.level_before = self.level_at(t);
+                        }
+                        if silent {
+                            // The own telegram's implied filler is this very filler
+                            // (`silent_resume`): nothing to send.
+                            debug_assert!(matches!(rest.signal, LineSignal::Filler));
+                            continue;
+                        }
+                        self.emit(rest);
+                        sent = true;
                     }
-                    if !matches!(rest.signal, LineSignal::Bits(_)) {
-                        // A steady signal starts afresh from the level the own telegram left.
-                        rest.level_before = self.level_at(t);
-                    }
-                    self.emit(rest);
+                }
+                if !sent && self.implied_open {
+                    // The own telegram said filler follows; the line keeps its last level
+                    // instead: a segment of no bits says so (a steady hold).
+                    let hold = LineSegment::bits(
+                        t,
+                        self.last_out
+                            .as_ref()
+                            .map_or(Duration::ZERO, |l| l.bit_time),
+                        sercos_wire::line::BitVec::new(),
+                        self.level_at(t),
+                    );
+                    self.emit(hold);
                 }
             }
         }
@@ -244,8 +299,10 @@ impl Transmitter {
             level_before: seg.level_before,
             hint: None,
             distorted: seg.distorted,
+            then_filler: seg.then_filler,
         });
         self.last_is_bg = false;
+        self.implied_open = false;
     }
 
     /// Whether no released segment waits to be taken.
@@ -267,4 +324,15 @@ impl Transmitter {
         }
         out.append(&mut self.released);
     }
+}
+
+/// Whether background `bg` resumed at `at` is plain filler of bit time `bit_time` (filler,
+/// or the implied filler of a forwarded telegram that has ended by then), undistorted.
+fn resumes_filler(bg: &LineSegment, at: Instant, bit_time: Duration) -> bool {
+    let filler = match &bg.signal {
+        LineSignal::Filler => true,
+        LineSignal::Bits(_) => bg.then_filler && bg.end().is_some_and(|e| e <= at),
+        LineSignal::Dark | LineSignal::Light => false,
+    };
+    filler && !bg.distorted && bg.bit_time == bit_time
 }
