@@ -79,20 +79,10 @@ pub(crate) fn mst_end(chip: &mut Chip, tick: u64, frame: &HeardFrame) {
         // 410B §4.1 4H.5 INT_PHAS0: "Interrupt phase MST = 0" (phase bits 2-0).
         chip.engine.flags.lo |= INT_PHAS0;
     }
-    let phas = chip.engine.regs.stored(Register::Phas);
-    let (phas0, phas1) = ((phas & 0xFF) as u8, (phas >> 8) as u8);
-    // 410B §4.1 0AH PHAS0/PHAS1 "Phase for MST receive (slave)", 0CH.2-3 COMBLK0/1: the
-    // block of the phase received; any other phase is INT_PHASERR and no block.
-    let block = if phase == phas0 {
-        Some(u8::from(s.comblk0))
-    } else if phase == phas1 {
-        Some(u8::from(
-            chip.engine.regs.stored(Register::Ctrl0C) & (1 << 3) != 0,
-        ))
-    } else {
+    let block = phase_block(chip, phase);
+    if block.is_none() {
         chip.engine.flags.lo |= INT_PHASERR;
-        None
-    };
+    }
     // The slave's cycle restarts at the MST's end (spec-notes "slave cycle").
     chip.engine
         .sync_cycle(tick, block.unwrap_or(u8::from(s.comblk0)));
@@ -110,6 +100,23 @@ pub(crate) fn mst_end(chip: &mut Chip, tick: u64, frame: &HeardFrame) {
 /// times the MST in whole µs of its time base, as the INT_MSTLATE check above does, so
 /// an MST that moves by less than a µs (e.g. one stuffed bit more when the phase byte
 /// changes) is still the MST of its cycle, not a missing one.
+/// The block a slave starts at the end of an MST with `phase`: 410B §4.1 0AH PHAS0/PHAS1
+/// "Phase for MST receive (slave)", 0CH.2-3 COMBLK0/1; any other phase starts none (and is
+/// INT_PHASERR).
+pub(crate) fn phase_block(chip: &Chip, phase: u8) -> Option<u8> {
+    let phas = chip.engine.regs.stored(Register::Phas);
+    let (phas0, phas1) = ((phas & 0xFF) as u8, (phas >> 8) as u8);
+    if phase == phas0 {
+        Some(u8::from(chip.engine.s.comblk0))
+    } else if phase == phas1 {
+        Some(u8::from(
+            chip.engine.regs.stored(Register::Ctrl0C) & (1 << 3) != 0,
+        ))
+    } else {
+        None
+    }
+}
+
 // 410B §4.1 16H JTSCYC2 "Receive time window for MST 2" (µs, spec-notes "MST window")
 // and §4.2 word 10 NMSTERR; spec-notes "MST window in whole µs" (task mst3).
 fn window_close(last: u64, tscyc: u64, j2: u64, period: u64) -> u64 {

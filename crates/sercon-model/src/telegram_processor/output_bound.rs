@@ -19,18 +19,31 @@ pub(crate) fn next_tx_bound(chip: &Chip) -> Option<u64> {
             best = Some(best.map_or(t, |b: u64| b.min(t)));
         }
     };
-    // A block about to start (master: after its MST) may begin with a telegram due at once.
-    consider(tp.pending_block.map(|(t, _)| t));
+    // A block about to start (master: after its MST): its first transmit telegram.
+    if let Some((t, block)) = tp.pending_block {
+        consider(next_block_bound(chip, t, block));
+    }
     if chip.engine.s.is_sercos_slave() {
         // 410B §4.2.1 TRT "after end of MST": a slave's block starts at the end of an MST
-        // it receives (crate::mst), the earliest its telegrams can go.
+        // it receives (crate::mst): the first MST's block bounds its telegrams; a later
+        // MST (its block would abort that one) bounds them by its end.
+        let mut first = true;
+        let mut mst = |end_tick: u64, frame: &crate::serial_port::HeardFrame| {
+            let bound = if first {
+                mst_block_bound(chip, end_tick, frame)
+            } else {
+                Some(end_tick)
+            };
+            first = false;
+            bound
+        };
         if let Some(now) = &tp.rx_now
             && now.role == super::RxRole::Mst
         {
-            consider(Some(now.end_tick));
+            consider(mst(now.end_tick, &now.frame));
         }
-        if let Some((tick, f)) = tp.rx_queue.iter().find(|(_, f)| is_mst(&f.bytes)) {
-            consider(Some(chip.clock.tick_at_or_after(f.end).max(*tick)));
+        for (tick, f) in tp.rx_queue.iter().filter(|(_, f)| is_mst(&f.bytes)) {
+            consider(mst(chip.clock.tick_at_or_after(f.end).max(*tick), f));
         }
     }
     if let Some(b) = &tp.block {
@@ -46,6 +59,90 @@ pub(crate) fn next_tx_bound(chip: &Chip) -> Option<u64> {
         }
     }
     best
+}
+
+/// The first transmit telegram of the block an MST ending at `end_tick` starts
+/// (`crate::mst::mst_end`: a good MST of an expected phase, the processor on); none for an
+/// MST that starts no block.
+fn mst_block_bound(
+    chip: &Chip,
+    end_tick: u64,
+    frame: &crate::serial_port::HeardFrame,
+) -> Option<u64> {
+    if !frame.fcs_ok || !super::tp_enabled(chip) {
+        return None;
+    }
+    let phase = frame.bytes.get(1).copied().unwrap_or(0);
+    let block = crate::mst::phase_block(chip, phase)?;
+    next_block_bound(chip, end_tick, block)
+}
+
+/// The TRT tick of the first enabled transmit header of block `block` starting at `tick`
+/// (410B §4.2.1: COMPT0/1 in RAM words 0/1 point to its first header; TRT counts from the
+/// block's start; the headers are walked in list order), when nothing the processor does
+/// before `tick` can change what that walk reads; `tick` itself otherwise.
+fn next_block_bound(chip: &Chip, tick: u64, block: u8) -> Option<u64> {
+    let Some(guard) = writes_before(chip, tick) else {
+        return Some(tick);
+    };
+    let compt = walk::word(&chip.ram, u32::from(block & 1)).unwrap_or(0);
+    let b = Block {
+        block,
+        ref_tick: tick,
+        cur: None,
+        steps: 0,
+        last_end: tick,
+        visited: super::Visited::EMPTY,
+    };
+    let mut clear = true;
+    let found = next_tx_in_list_with(chip, &b, compt, |at, words, end| {
+        // A header whose words the processor writes before the block starts: the walk may
+        // not hold (the end marker's own TEND word changes nothing the walk reads).
+        let hit = |w: Option<u32>| {
+            w.is_some_and(|w| w >= u32::from(at) && w < u32::from(at) + words as u32)
+        };
+        if hit(guard.nmsterr)
+            || (hit(guard.tend) && !(end && guard.tend == Some(u32::from(at) + 1)))
+        {
+            clear = false;
+        }
+        clear
+    });
+    if clear { found.tick } else { Some(tick) }
+}
+
+/// RAM words the processor may still write before a block starts at `tick` when the
+/// current block has nothing left but its end marker: that marker's TEND word and, if the
+/// MST window closes first, NMSTERR (410B §4.2 word 10).
+#[derive(Debug, Clone, Copy)]
+struct Writes {
+    tend: Option<u32>,
+    nmsterr: Option<u32>,
+}
+
+/// [`Writes`] before `tick`; `None` when the current block may still receive or send
+/// (a receive telegram writes data, VAL and NERR; a transmit telegram EN and its service
+/// container: not followed here).
+fn writes_before(chip: &Chip, tick: u64) -> Option<Writes> {
+    let tp = &chip.tp;
+    if tp
+        .rx_now
+        .as_ref()
+        .is_some_and(|r| matches!(r.role, super::RxRole::Telegram { .. }))
+    {
+        return None;
+    }
+    let tend = match tp.block.as_ref().map(|b| b.cur) {
+        None => None,
+        Some(Some(Cur::End { at, .. })) => Some(u32::from(at) + 1),
+        Some(_) => return None,
+    };
+    let nmsterr = tp
+        .mst
+        .deadline
+        .filter(|d| *d < tick)
+        .map(|_| u32::from(sercon_regs::ram::NMSTERR));
+    Some(Writes { tend, nmsterr })
 }
 
 /// What a walk of the header list found ahead of a receive header: valid in the same
@@ -129,6 +226,17 @@ struct Walk {
 /// before it; none at the end marker, a header the processor would refuse or has reached in
 /// this block, or the block's step limit.
 fn next_tx_in_list(chip: &Chip, b: &Block, pt: u16) -> Walk {
+    next_tx_in_list_with(chip, b, pt, |_, _, _| true)
+}
+
+/// [`next_tx_in_list`], asking `keep(address, words, is_end_marker)` of every header it
+/// reads whether to go on (`false`: the walk ends there, finding nothing).
+fn next_tx_in_list_with(
+    chip: &Chip,
+    b: &Block,
+    pt: u16,
+    mut keep: impl FnMut(u16, usize, bool) -> bool,
+) -> Walk {
     let variant = chip.cfg.variant;
     let period = chip.engine.pre.period();
     let mut ptr = pt & variant.pointer_mask();
@@ -157,6 +265,14 @@ fn next_tx_in_list(chip: &Chip, b: &Block, pt: u16) -> Walk {
         let Ok(header) = walk::header_at(&chip.ram, variant, ptr) else {
             return walk;
         };
+        let (words, end) = match header {
+            Header::Transmit(_) => (TxHeader::WORDS, false),
+            Header::Receive(_) => (RxHeader::WORDS, false),
+            Header::End(_) => (sercon_regs::ram::header::EndMarker::WORDS, true),
+        };
+        if !keep(ptr, words, end) {
+            return walk;
+        }
         match header {
             Header::Transmit(h) if h.en != TxEnable::Off => {
                 // 410B §4.2.1 TRT: µs after the end of the MST.
