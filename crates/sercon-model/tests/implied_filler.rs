@@ -21,6 +21,8 @@ use sercos_wire::time::{Duration, Instant};
 const ENTXD_ALL: u16 = 0x3F;
 /// 410B §4.1 1H.3 REPON.
 const REPON: u16 = 1 << 3;
+/// 816 §2.3.1: ENTSBAUD = 1 with SWBAUD16 = SWBAUD = 0 selects 16 Mbit/s.
+const ENTSBAUD: u16 = 1 << 10;
 
 /// What a chip shows: received frames, RAM, registers 00H–3FH, pin levels.
 fn state(c: &mut Chip) -> (Vec<RxFrame>, Vec<u16>, Vec<u16>, Vec<bool>) {
@@ -42,9 +44,10 @@ fn state(c: &mut Chip) -> (Vec<RxFrame>, Vec<u16>, Vec<u16>, Vec<bool>) {
     (frames, ram, regs, pins)
 }
 
+/// A SERCON816 at 16 Mbit/s (the bit time the test lines use), transmitter on.
 fn chip(repon: bool) -> Chip {
     let mut c = Chip::new(ChipConfig::sercon816());
-    c.write_register(1, if repon { REPON } else { 0 });
+    c.write_register(1, ENTSBAUD | if repon { REPON } else { 0 });
     c.write_register(2, ENTXD_ALL);
     c
 }
@@ -255,4 +258,91 @@ fn one_segment_per_telegram_with_the_same_levels() {
         assert_eq!(level(&oa, t), level(&ob, t), "at {t:?}");
         t += bt;
     }
+}
+
+/// A receiver given `bits` (from `t0`) with an implied filler, then `next` at `gap_bits`
+/// bit times after their end (0 or less: the filler had no time), advanced to `mid` in
+/// between, against one given the explicit filler (when it has time to start).
+fn receiver_case(bits: &[bool], gap_bits: i64, mid_bits: u64, next_kind: u8) {
+    let bt = Duration::from_nanos(62) + Duration::from_picos(500);
+    let t0 = Instant::ZERO + Duration::from_micros(3);
+    let mut v = BitVec::new();
+    for b in bits {
+        v.push(*b);
+    }
+    let seg = LineSegment::bits(t0, bt, v, false);
+    let end = seg.end().unwrap_or(t0);
+    let next_at = Instant::from_picos(
+        end.as_picos()
+            .saturating_add_signed(gap_bits * bt.as_picos() as i64)
+            .max(t0.as_picos() + 1),
+    );
+    let mid = t0 + bt.saturating_mul(mid_bits);
+    let mid = mid.min(next_at - Duration::from_picos(1));
+    let next = LineSegment::steady(next_at, bt, signal(next_kind, &[]), false);
+    let mut explicit = chip(false);
+    let mut implied = chip(false);
+    let (bits_only, filler) = LineSegment {
+        then_filler: true,
+        ..seg.clone()
+    }
+    .split_filler();
+    explicit.line_input(bits_only);
+    if let Some(f) = filler.filter(|f| f.start < next_at) {
+        explicit.line_input(f);
+    }
+    implied.line_input(LineSegment {
+        then_filler: true,
+        ..seg
+    });
+    for c in [&mut explicit, &mut implied] {
+        c.advance_to(mid);
+    }
+    assert_eq!(state(&mut explicit), state(&mut implied), "at {mid:?}");
+    if gap_bits > 0 {
+        // Both know of the filler: the same is scheduled (the output the test does not
+        // take left out). Otherwise the implied one still counts on it until `next`.
+        assert_eq!(
+            explicit.next_internal_event_at(),
+            implied.next_internal_event_at(),
+            "at {mid:?}"
+        );
+    }
+    explicit.line_input(next.clone());
+    implied.line_input(next);
+    assert_eq!(
+        explicit.next_internal_event_at(),
+        implied.next_internal_event_at(),
+        "after the input"
+    );
+    let until = next_at + Duration::from_micros(10);
+    for c in [&mut explicit, &mut implied] {
+        c.advance_to(until);
+    }
+    assert_eq!(state(&mut explicit), state(&mut implied), "at the end");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    // 410B §4.1 2H.13 FIBBR: bits without edges for longer than FIBBR_BIT_TIMES raise FIBBR
+    // before their filler starts; a segment cutting the filler (or the bits) takes back only
+    // what had not happened.
+    #[test]
+    fn a_receiver_takes_an_implied_filler_as_the_explicit_one(
+        bits in proptest::collection::vec(prop_oneof![3 => Just(true), 1 => any::<bool>()], 1..120),
+        gap_bits in -20i64..20,
+        mid_bits in 0u64..200,
+        next_kind in 0u8..3,
+    ) {
+        receiver_case(&bits, gap_bits, mid_bits, next_kind);
+    }
+}
+
+#[test]
+fn an_edgeless_tail_raises_fibbr_with_or_without_the_filler() {
+    // 100 bit times of light, the FIBBR deadline passes inside them; the next segment at
+    // the bits' end, after the receiver has passed the deadline.
+    receiver_case(&[true; 100], 0, 90, 1);
+    receiver_case(&[true; 100], -10, 80, 0);
+    receiver_case(&[true; 100], 5, 95, 2);
 }

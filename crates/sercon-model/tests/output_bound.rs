@@ -91,6 +91,67 @@ fn the_bench_pair_keeps_its_promises_and_saves_wakes() {
     assert_eq!(pair[0].read_ram(29 + 7), 0x1000);
 }
 
+// 410B §4.2.1 TRT "after end of MST", §4.1 0AH PHAS0 / 0CH COMBLK0: a slave that has an
+// MST to process is bound by the first transmit header of the block that MST starts, not by
+// the MST's end: no bound lies at the end of an MST (the bound before it did), and some are
+// the start of the AT it sends next.
+#[test]
+fn a_slave_is_bound_by_the_at_of_the_block_its_mst_starts() {
+    let shape = Shape::BENCH;
+    let delay = Duration::from_nanos(shape.delay_ns);
+    let mut pair = chips(shape);
+    let mut bounds = Vec::new();
+    let mut ats = Vec::new();
+    let mut mst_ends = Vec::new();
+    pair_loop::stepped(
+        &mut pair,
+        delay,
+        Instant::ZERO + Duration::from_micros(600),
+        |i, c| {
+            if i == 1
+                && let (Some(b), Some(e)) = (c.next_output_bound(), c.next_internal_event_at())
+                && b > e
+            {
+                bounds.push(b);
+            }
+            promise(c)
+        },
+        |i, _, seg| {
+            let adr = seg
+                .hint
+                .as_ref()
+                .map(|h| (h.telegram.first().copied(), h.telegram.len()));
+            match (i, adr) {
+                // The master's MSTs (ADR 255, one data byte; sercos-telegrams.md), where
+                // they end at the slave.
+                (0, Some((Some(255), 2))) => {
+                    mst_ends.extend(seg.end().map(|e| e + delay));
+                }
+                // The slave's own telegrams (it repeats MST and MDT, ADR 255).
+                (1, Some((Some(a), _))) if a != 255 => ats.push(seg.start),
+                _ => {}
+            }
+        },
+    );
+    assert!(ats.len() > 5 && mst_ends.len() > 5, "{ats:?} {mst_ends:?}");
+    // In the steady cycles (after the first AT; before it the slave starts up).
+    let first = ats.first().copied().unwrap_or(Instant::ZERO);
+    let steady: Vec<Instant> = bounds.into_iter().filter(|b| *b > first).collect();
+    let near = |b: Instant, t: Instant| b >= t && b < t + Duration::from_nanos(200);
+    for b in &steady {
+        assert!(
+            !mst_ends.iter().any(|m| near(*b, *m)),
+            "a bound at {b:?} is the end of an MST ({mst_ends:?})"
+        );
+    }
+    let at_bounds = steady.iter().filter(|b| ats.contains(b)).count();
+    assert!(
+        at_bounds > 5,
+        "{at_bounds} of {} bounds are AT starts",
+        steady.len()
+    );
+}
+
 // 410B §4.1 03H ENINT0: with an interrupt output enabled every event may change INT0: the
 // bound is the next internal event.
 #[test]

@@ -178,12 +178,6 @@ impl LineEvents {
         self.status.len()
     }
 
-    /// The last scheduled FIBBR / RDIST change `back` places from the end (0: the last).
-    pub(crate) fn status_from_back(&self, back: usize) -> Option<(Instant, Change)> {
-        let i = self.status.len().checked_sub(back + 1)?;
-        self.status.get(i).copied()
-    }
-
     /// Takes back a FIBBR / RDIST change scheduled lately, if it is still pending (the last
     /// entry equal to it).
     pub(crate) fn unschedule_status(&mut self, entry: (Instant, Change)) {

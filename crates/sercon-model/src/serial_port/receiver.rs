@@ -124,11 +124,24 @@ impl Receiver {
         if let Some(undo) = self.implied.take()
             && seg.start <= undo.at
         {
+            // What the filler scheduled from this segment's start on did not happen. A FIBBR
+            // rise before it (the bits' last edge more than FIBBR_BIT_TIMES before) did, with
+            // or without the filler (410B §4.1 2H.13): it stays, and FIBBR is set.
+            let mut rose = false;
             for entry in undo.scheduled.iter().rev().flatten() {
-                events.unschedule_status(*entry);
+                if entry.0 >= seg.start {
+                    events.unschedule_status(*entry);
+                } else if entry.1 == Change::Fibbr(true) {
+                    rose = true;
+                }
             }
-            self.fibbr_deadline = undo.fibbr_deadline;
-            self.fibbr_future = undo.fibbr_future;
+            if rose {
+                self.fibbr_deadline = None;
+                self.fibbr_future = true;
+            } else {
+                self.fibbr_deadline = undo.fibbr_deadline;
+                self.fibbr_future = undo.fibbr_future;
+            }
             self.running = undo.running;
             self.open_filler = false;
             if let Some(last) = self.last.as_mut() {
@@ -153,22 +166,28 @@ impl Receiver {
         };
         let mismatch = cfg.bit_time.is_some_and(|bt| bt != last.bit_time);
         let distorted = last.distorted || mismatch;
-        let before = events.status_len();
         let fibbr_deadline = self.fibbr_deadline;
         let fibbr_future = self.fibbr_future;
         let running = self.running.take();
-        // 410B §4.1 2H.12 RDIST, as for any segment.
+        let mut scheduled = [None; 3];
+        // 410B §4.1 2H.12 RDIST, as for any segment (dropped when RDIST has that value).
+        let before = events.status_len();
         events.push(at, Change::Rdist(distorted));
+        if events.status_len() > before {
+            scheduled[0] = Some((at, Change::Rdist(distorted)));
+        }
         // Filler: the light changes at the start of every bit time, from the line's level
-        // (its first edge at `at`); no FIBBR while it lasts (410B §4.1 2H.13).
+        // (its first edge at `at`); no FIBBR while it lasts (410B §4.1 2H.13). What the
+        // edge schedules (`Receiver::edge`): FIBBR rising at a deadline passed before it,
+        // falling at it.
+        let rises = fibbr_deadline.filter(|d| *d <= at && !fibbr_future);
+        scheduled[1] = rises.map(|d| (d, Change::Fibbr(true)));
+        if fibbr_future || rises.is_some() {
+            scheduled[2] = Some((at, Change::Fibbr(false)));
+        }
         self.edge(at, events);
         self.fibbr_deadline = None;
         self.open_filler = true;
-        let added = events.status_len().saturating_sub(before).min(3);
-        let mut scheduled = [None; 3];
-        for (k, slot) in scheduled.iter_mut().enumerate().take(added) {
-            *slot = events.status_from_back(added - 1 - k);
-        }
         self.implied = Some(ImpliedFiller {
             at,
             fibbr_deadline,
