@@ -86,6 +86,7 @@ fuzz_target!(|data: &[u8]| {
                 let hint = (a & 0x10 != 0 && !payload.is_empty()).then(|| FrameHint {
                     telegram: Shared::from(payload),
                     offset: u64::from(a >> 5),
+                    twin: None,
                 });
                 let seg = LineSegment {
                     start,

@@ -191,6 +191,7 @@ fn frame(start: Instant, bytes: &[u8]) -> LineSegment {
         hint: Some(FrameHint {
             telegram: Shared::from(bytes),
             offset: 0,
+            twin: None,
         }),
         distorted: false,
         then_filler: false,
@@ -356,7 +357,7 @@ proptest! {
                     bit_time,
                     signal: LineSignal::Bits(Shared::new(bits)),
                     level_before: false,
-                    hint: Some(FrameHint { telegram: Shared::from(&bytes[..]), offset: 0 }),
+                    hint: Some(FrameHint { telegram: Shared::from(&bytes[..]), offset: 0, twin: None }),
                     distorted: false,
                     then_filler: false,
                 });

@@ -26,7 +26,6 @@ use crate::recorder::{Recorder, TraceOutput};
 use crate::topology::Topology;
 
 mod host_run;
-mod inverted_copies;
 #[cfg(test)]
 mod light_wake_tests;
 mod out_floors;
@@ -35,7 +34,6 @@ mod plain_pass;
 mod test_lcg;
 mod wake_queue;
 
-use inverted_copies::InvertedCopies;
 use out_floors::OutFloors;
 use plain_pass::PlainPass;
 use wake_queue::WakeQueue;
@@ -125,8 +123,6 @@ pub struct Simulation {
     host_nesting: usize,
     /// The first error of events run inside a host's bus time, for `run_until` to return.
     held_error: Option<SimError>,
-    /// Inverted copies of delivered telegrams' bits, made once per telegram (`deliver`).
-    inverted: InvertedCopies,
     /// The last pass through plain repeaters, while the output floors it wrote stand.
     plain_pass: Option<PlainPass>,
     /// Quiet wakes skip the touched list ([`Simulation::wake_node`]); off only in tests
@@ -296,7 +292,6 @@ impl Simulation {
             lookahead: Lookahead::default(),
             host_nesting: 0,
             held_error: None,
-            inverted: InvertedCopies::default(),
             light_wakes: true,
             plain_pass: None,
         };
@@ -794,7 +789,8 @@ impl Simulation {
         if let (LineSignal::Bits(_), Some(last)) = (&local.signal, &node.last_in)
             && local.level_before != last.level_at(local.start)
         {
-            local = self.inverted.invert(local);
+            // The sender's hint has the inverted bits at hand (`FrameHint::twin`).
+            local = local.inverted();
         }
         node.last_in = Some(local.clone());
         if repeating {

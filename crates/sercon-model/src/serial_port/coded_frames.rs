@@ -25,6 +25,15 @@ struct Entry {
     coded: [Option<(Shared<BitVec>, u64)>; 2],
 }
 
+/// A telegram's line bits from one level, with the offset of its opening flag and the
+/// bits from the other level.
+#[derive(Debug, Clone)]
+pub(crate) struct Coded {
+    pub(crate) bits: Shared<BitVec>,
+    pub(crate) offset: u64,
+    pub(crate) twin: Option<Shared<BitVec>>,
+}
+
 /// The telegrams sent lately (round robin).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct CodedFrames {
@@ -61,7 +70,8 @@ impl CodedFrames {
     }
 
     /// The NRZI bits of `telegram` (as given by [`CodedFrames::lookup`]) on a line at
-    /// light level `level` before the first bit, and the offset of the opening flag;
+    /// light level `level` before the first bit, the offset of the opening flag, and the
+    /// bits from the other level (the same inverted) when the telegram is remembered;
     /// `None` when it cannot be encoded.
     pub(crate) fn coded(
         &mut self,
@@ -69,23 +79,33 @@ impl CodedFrames {
         presync: bool,
         len: u64,
         level: bool,
-    ) -> Option<(Shared<BitVec>, u64)> {
-        let entry = self
+    ) -> Option<Coded> {
+        let Some(entry) = self
             .entries
             .iter_mut()
-            .find(|e| e.presync == presync && Shared::ptr_eq(&e.telegram, telegram));
-        let slot = usize::from(level);
-        if let Some(hit) = entry
-            .as_ref()
-            .and_then(|e| e.coded.get(slot).cloned().flatten())
-        {
-            return Some(hit);
+            .find(|e| e.presync == presync && Shared::ptr_eq(&e.telegram, telegram))
+        else {
+            let (bits, offset) = encode(telegram, presync, len, level)?;
+            return Some(Coded {
+                bits,
+                offset,
+                twin: None,
+            });
+        };
+        let [low, high] = &mut entry.coded;
+        let (this, other) = if level { (high, low) } else { (low, high) };
+        if this.is_none() {
+            *this = Some(encode(telegram, presync, len, level)?);
         }
-        let coded = encode(telegram, presync, len, level)?;
-        if let Some(c) = entry.and_then(|e| e.coded.get_mut(slot)) {
-            *c = Some(coded.clone());
+        if other.is_none() {
+            *other = encode(telegram, presync, len, !level);
         }
-        Some(coded)
+        let (bits, offset) = this.clone()?;
+        Some(Coded {
+            bits,
+            offset,
+            twin: other.as_ref().map(|(b, _)| b.clone()),
+        })
     }
 }
 
@@ -119,11 +139,14 @@ mod tests {
         let mst = [255u8, 4];
         let (t, len) = c.lookup(&mst, false);
         for level in [false, true, false, true] {
-            let (bits, offset) = c.coded(&t, false, len, level).expect("encodable");
+            let coded = c.coded(&t, false, len, level).expect("encodable");
             let (fresh, fresh_offset) = encode(&mst, false, len, level).expect("encodable");
-            assert_eq!(*bits, *fresh);
-            assert_eq!(offset, fresh_offset);
-            assert_eq!(bits.len(), len);
+            assert_eq!(*coded.bits, *fresh);
+            assert_eq!(coded.offset, fresh_offset);
+            assert_eq!(coded.bits.len(), len);
+            // NRZI from the other level: every level the other way (the segment's twin).
+            let twin = coded.twin.expect("remembered");
+            assert_eq!(*twin, fresh.inverted());
         }
         // The same bytes share the first allocation; other bytes or a sync word do not.
         assert!(Shared::ptr_eq(&c.lookup(&mst, false).0, &t));
@@ -137,8 +160,11 @@ mod tests {
         for n in 0..(3 * ENTRIES as u8) {
             let tel = [n, n.wrapping_mul(7), 0x7E];
             let (t, len) = c.lookup(&tel, false);
-            let (bits, _) = c.coded(&t, false, len, true).expect("encodable");
-            assert_eq!(*bits, *encode(&tel, false, len, true).expect("encodable").0);
+            let coded = c.coded(&t, false, len, true).expect("encodable");
+            assert_eq!(
+                *coded.bits,
+                *encode(&tel, false, len, true).expect("encodable").0
+            );
         }
         assert_eq!(c.entries.len(), ENTRIES);
     }

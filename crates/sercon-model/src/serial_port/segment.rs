@@ -50,13 +50,26 @@ pub enum LineSignal {
 /// [`LineSegment::level_before`]: then an NRZI receiver decodes exactly one telegram with a
 /// valid FCS, `telegram`, whose opening flag starts at bit `offset` and whose closing flag
 /// ends the segment.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub struct FrameHint {
     /// The telegram bytes (ADR and data, without FCS).
     pub telegram: Shared<[u8]>,
     /// The first bit of the opening flag, counted from the segment's first bit.
     pub offset: u64,
+    /// The segment's bits inverted (the telegram coded from the other level: NRZI from the
+    /// opposite level gives every level the other way), when the sender has them at hand:
+    /// [`LineSegment::inverted`] then shares them instead of copying. A cache, not part of
+    /// what the hint says (`==` ignores it).
+    pub twin: Option<Shared<BitVec>>,
 }
+
+impl PartialEq for FrameHint {
+    fn eq(&self, other: &Self) -> bool {
+        self.telegram == other.telegram && self.offset == other.offset
+    }
+}
+
+impl Eq for FrameHint {}
 
 /// A timed piece of the line signal.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -193,13 +206,26 @@ impl LineSegment {
 
     /// The light inverted (a transceiver of the other polarity): bits are inverted, dark and
     /// light swap, filler stays filler. NRZI decodes the same, so the hint stays valid.
+    /// With a hint's twin the inverted bits are shared, not copied (and the bits become the
+    /// new hint's twin).
     pub fn inverted(mut self) -> Self {
         self.level_before = !self.level_before;
         self.signal = match self.signal {
             LineSignal::Dark => LineSignal::Light,
             LineSignal::Light => LineSignal::Dark,
             LineSignal::Filler => LineSignal::Filler,
-            LineSignal::Bits(b) => LineSignal::Bits(Shared::new(invert_bits(&b))),
+            LineSignal::Bits(b) => {
+                let twin = self
+                    .hint
+                    .as_mut()
+                    .and_then(|h| h.twin.take())
+                    .filter(|t| t.len() == b.len());
+                let inv = twin.unwrap_or_else(|| Shared::new(invert_bits(&b)));
+                if let Some(h) = self.hint.as_mut() {
+                    h.twin = Some(b);
+                }
+                LineSignal::Bits(inv)
+            }
         };
         self
     }

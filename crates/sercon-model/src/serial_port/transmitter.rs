@@ -78,15 +78,16 @@ pub(crate) struct Transmitter {
 impl Own {
     /// The segment of this telegram on a line at light level `level` before its first bit.
     fn segment(self, level: bool, coded: &mut CodedFrames) -> Option<LineSegment> {
-        let (bits, offset) = coded.coded(&self.telegram, self.presync, self.len, level)?;
+        let c = coded.coded(&self.telegram, self.presync, self.len, level)?;
         Some(LineSegment {
             start: self.start,
             bit_time: self.bit_time,
-            signal: LineSignal::Bits(bits),
+            signal: LineSignal::Bits(c.bits),
             level_before: level,
             hint: Some(FrameHint {
                 telegram: self.telegram,
-                offset,
+                offset: c.offset,
+                twin: c.twin,
             }),
             distorted: false,
             then_filler: false,
