@@ -494,9 +494,11 @@ fn load(chip: &mut Chip, tick: u64, ptr: u16) {
                 announced: false,
             }
         }
+        // Processed once the block's last telegram has ended (`end_marker`): no turn
+        // before that.
         Header::End(_) => Cur::End {
             at: ptr,
-            ready: tick,
+            ready: busy_until(chip, tick).unwrap_or(tick),
         },
     };
     set_cur(chip, Some(cur));
@@ -505,14 +507,7 @@ fn load(chip: &mut Chip, tick: u64, ptr: u16) {
 /// The end marker is current at `tick`: the block ends once its last telegram has.
 // 410B §4.2.3 TEND: "Time after end of MST at which the last telegram has ended (in µs)".
 fn end_marker(chip: &mut Chip, tick: u64, at: u16) {
-    let busy_tx = chip.tp.tx_end.filter(|t| *t > tick);
-    let busy_rx = chip
-        .tp
-        .rx_now
-        .as_ref()
-        .filter(|r| matches!(r.role, RxRole::Telegram { .. }) && r.end_tick > tick)
-        .map(|r| r.end_tick);
-    if let Some(later) = busy_tx.max(busy_rx) {
+    if let Some(later) = busy_until(chip, tick) {
         set_cur(chip, Some(Cur::End { at, ready: later }));
         return;
     }
@@ -529,6 +524,19 @@ fn end_marker(chip: &mut Chip, tick: u64, at: u16) {
     output_bound::ram_written(chip, u32::from(at) + 1, 1);
     // 410B §4.1 4H.4 INT_COMEND "end of transmission block"; 3H.6 COMACT falls.
     chip.engine.flags.lo |= INT_COMEND;
+}
+
+/// When the block's last telegram ends, if one is still being sent or received after
+/// `tick` (410B §4.2.3 TEND: the block ends with its last telegram).
+fn busy_until(chip: &Chip, tick: u64) -> Option<u64> {
+    let busy_tx = chip.tp.tx_end.filter(|t| *t > tick);
+    let busy_rx = chip
+        .tp
+        .rx_now
+        .as_ref()
+        .filter(|r| matches!(r.role, RxRole::Telegram { .. }) && r.end_tick > tick)
+        .map(|r| r.end_tick);
+    busy_tx.max(busy_rx)
 }
 
 /// Whether a block is being processed (3H.6 COMACT) and which (3H.7 COMBLK).
