@@ -11,10 +11,6 @@ use crate::clock::NodeClock;
 use crate::config::NodeConfig;
 use crate::host::{HostProgram, NodeBus, Wake};
 
-mod expected_copies;
-
-pub(crate) use expected_copies::ExpectedCopies;
-
 /// 410B §4.1 1H.3 REPON.
 const REPON: u16 = 1 << 3;
 /// Host wakes in a row at one instant before the node is left alone (a program that
@@ -39,9 +35,9 @@ pub(crate) struct Node {
     pub(crate) rewake: bool,
     /// The current wake is such a second wake (it earns no further one).
     pub(crate) rewaking: bool,
-    /// Forwarded segments the simulation already knows of: (local start at the output,
-    /// originating node).
-    pub(crate) expect: ExpectedCopies,
+    /// Exact path: the repeater's copies of what was delivered, not yet released: (local
+    /// start at the output, originating node), oldest first.
+    pub(crate) expect: std::collections::VecDeque<(Instant, usize)>,
     /// End of the last own telegram (local): the background resumes there.
     pub(crate) resume: Option<Instant>,
     /// The last segment on the output line (simulation time), when levels are followed.
@@ -80,7 +76,7 @@ impl Node {
             ints: (false, false),
             rewake: false,
             rewaking: false,
-            expect: ExpectedCopies::default(),
+            expect: std::collections::VecDeque::new(),
             resume: None,
             last_out: None,
             track_levels: true,

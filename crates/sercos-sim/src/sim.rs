@@ -183,8 +183,11 @@ impl Simulation {
             // The receive log is for tools; nothing here reads it (every frame still goes
             // to the telegram processor).
             chip.set_rx_log(false);
-            // Fast path: a telegram and the filler after it travel as one segment.
+            // Fast path: a telegram and the filler after it travel as one segment, and the
+            // simulation carries what a repeater forwards (`propagate`): the chip's own
+            // copies are not released.
             chip.set_implied_filler(cfg.delivery == Delivery::Fast);
+            chip.set_forward_output(cfg.delivery == Delivery::Exact);
             let clock = NodeClock::new(ppm_to_ppb(nc.mclk_error_ppm));
             let mut node = Node::new(nc.clone(), chip, host, clock);
             node.track_levels = cfg.delivery == Delivery::Exact;
@@ -586,18 +589,16 @@ impl Simulation {
         let Some(node) = self.nodes.get_mut(j) else {
             return;
         };
-        while node.expect.front().is_some_and(|(s, _)| s < seg.start) {
+        while node.expect.front().is_some_and(|(s, _)| *s < seg.start) {
             node.expect.pop_front();
         }
         let mut origin = j;
-        if let Some((s, o)) = node.expect.front()
+        // Exact path: a repeater's copy of what it received keeps its origin (the fast
+        // path carries received segments itself, `propagate`; the chips release no copies).
+        if let Some(&(s, o)) = node.expect.front()
             && s == seg.start
         {
             node.expect.pop_front();
-            if self.delivery == Delivery::Fast {
-                // Already carried down the ring when it arrived.
-                return;
-            }
             origin = o;
         }
         if matches!(seg.signal, LineSignal::Bits(_)) {
@@ -658,10 +659,13 @@ impl Simulation {
                 if s.keep_last {
                     s.last_entered = Some((seg.clone(), origin));
                 }
-                if s.faults.broken_at(seg.start) {
-                    return;
+                // A clean fibre (the usual case) leaves the segment as it is.
+                if !s.faults.is_clean() {
+                    if s.faults.broken_at(seg.start) {
+                        return;
+                    }
+                    seg = s.faults.apply(seg);
                 }
-                seg = s.faults.apply(seg);
                 if self.recorder.wants(cur) {
                     self.recorder.observe(cur, &seg, origin_of(origin));
                 }
@@ -793,10 +797,12 @@ impl Simulation {
             local = local.inverted();
         }
         node.last_in = Some(local.clone());
-        if repeating {
+        // The exact path matches the repeater's copies with what it delivered; on the fast
+        // path the chip releases none (`Chip::set_forward_output`).
+        if repeating && self.delivery == Delivery::Exact {
             let lat = local.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
             node.expect
-                .push_back(local.start.saturating_add(lat), origin);
+                .push_back((local.start.saturating_add(lat), origin));
         }
         let ahead = local.start > node.chip.now();
         if local.start < node.chip.now() {
@@ -885,15 +891,12 @@ impl Simulation {
             // an interrupt output can be seen; then its next internal event). Receive
             // events before it are processed at the next advance, with the same results.
             if lookahead == Lookahead::Events && !exact {
-                // Fast path: the forwarded copies the simulation expects (it carried them
-                // down the ring when they arrived, 410B §1 "The slaves regenerate and
-                // repeat their received data") need no wake; they are taken and dropped
-                // at the next one. Own output and anything unexpected still wake the node.
+                // Fast path: the chip releases no copies of what it repeats (the simulation
+                // carried them down the ring when they arrived, 410B §1 "The slaves
+                // regenerate and repeat their received data"; `Chip::set_forward_output`):
+                // its own output and anything else it releases wake it.
                 cand(node.chip.next_output_bound());
-                cand(
-                    node.chip
-                        .next_line_output_except(node.expect.starts().iter().copied()),
-                );
+                cand(node.chip.next_line_output_except(std::iter::empty()));
             } else {
                 if lookahead == Lookahead::Events {
                     cand(node.chip.next_event_at());
@@ -998,6 +1001,7 @@ impl Simulation {
                 // The receive log is for tools; nothing here reads it.
                 n.chip.set_rx_log(false);
                 n.chip.set_implied_filler(self.delivery == Delivery::Fast);
+                n.chip.set_forward_output(self.delivery == Delivery::Exact);
                 let local = n.clock.to_local(t);
                 n.chip.advance_to(local);
                 if let Some(v) = n.vcd {

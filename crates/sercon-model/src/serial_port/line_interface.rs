@@ -136,6 +136,16 @@ impl Chip {
         self.serial.set_rx_log(on);
     }
 
+    /// Whether the repeater's copies of the received signal (410B §1 "The slaves regenerate
+    /// and repeat their received data", 1H.3 REPON) appear in the line output (on after
+    /// [`Chip::new`]). A simulation that carries every received segment down the ring itself
+    /// turns it off: the chip still follows them (its line level, the background it resumes
+    /// after an own telegram) but releases only its own telegrams, what resumes after one,
+    /// and its filler and test signals. Applies to segments received from now on.
+    pub fn set_forward_output(&mut self, on: bool) {
+        self.serial.set_forward_output(on);
+    }
+
     /// Whether own telegrams carry the idle filler resumed after them
     /// ([`LineSegment::then_filler`]; off after [`Chip::new`]). The line signal is the same
     /// either way; a simulation that turns it on carries one segment per telegram instead of

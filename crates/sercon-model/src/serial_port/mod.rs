@@ -217,7 +217,7 @@ impl SerialPort {
             },
         );
         if let Some(fwd) = fwd {
-            self.tx.push_background(fwd);
+            self.tx.push_forwarded(fwd);
         }
     }
 
@@ -233,6 +233,12 @@ impl SerialPort {
         self.events.push(placed.start, Change::Idle(false));
         self.events.push(placed.end, Change::Idle(true));
         Some(placed.end)
+    }
+
+    /// Whether the repeater's copies of the received signal are released as output
+    /// (`Chip::set_forward_output`).
+    pub(crate) fn set_forward_output(&mut self, on: bool) {
+        self.tx.carried_forwarding = !on;
     }
 
     /// Own telegrams carry the filler resumed after them (`Chip::set_implied_filler`).

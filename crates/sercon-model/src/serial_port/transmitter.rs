@@ -23,6 +23,14 @@ pub(crate) struct Placed {
     pub(crate) end: Instant,
 }
 
+/// A background segment queued, and whether it is a forwarded copy the line's user carries
+/// itself (not released as output when `forward_output` is off).
+#[derive(Debug, Clone)]
+struct Queued {
+    seg: LineSegment,
+    carried: bool,
+}
+
 /// An own telegram queued, encoded when it is released (then the line's level before its
 /// first bit is known, so the bits are produced once, never inverted afterwards).
 #[derive(Debug, Clone)]
@@ -43,7 +51,7 @@ pub(crate) struct Transmitter {
     /// Own telegrams not yet released, by start.
     own: VecDeque<Own>,
     /// Background segments not yet released, by start.
-    background: VecDeque<LineSegment>,
+    background: VecDeque<Queued>,
     /// The background segment in effect (the last one whose start has passed), as queued,
     /// unless `last_is_bg` says it is `last_out` (then it is not copied at its release).
     bg_active: Option<LineSegment>,
@@ -67,6 +75,9 @@ pub(crate) struct Transmitter {
     coded: CodedFrames,
     /// Own telegrams carry the filler resumed after them ([`LineSegment::then_filler`]).
     pub(crate) implied_filler: bool,
+    /// Forwarded copies of the received signal are not released (`Chip::set_forward_output`):
+    /// they are followed (line level, what resumes after an own telegram) but not sent.
+    pub(crate) carried_forwarding: bool,
     /// The resume at `resume_at` is the filler the last own telegram implies: it sends
     /// nothing (unless the background changes first).
     silent_resume: bool,
@@ -128,10 +139,25 @@ impl Transmitter {
     /// Puts `seg` on the background timeline; background segments queued to start after it
     /// are dropped (it replaces them).
     pub(crate) fn push_background(&mut self, seg: LineSegment) {
-        while self.background.back().is_some_and(|b| b.start >= seg.start) {
+        self.queue_background(seg, false);
+    }
+
+    /// [`Transmitter::push_background`] for the repeater's copy of the received signal
+    /// (410B §1): not released as output when forwarded copies are carried by the user.
+    pub(crate) fn push_forwarded(&mut self, seg: LineSegment) {
+        let carried = self.carried_forwarding;
+        self.queue_background(seg, carried);
+    }
+
+    fn queue_background(&mut self, seg: LineSegment, carried: bool) {
+        while self
+            .background
+            .back()
+            .is_some_and(|b| b.seg.start >= seg.start)
+        {
             self.background.pop_back();
         }
-        self.background.push_back(seg);
+        self.background.push_back(Queued { seg, carried });
         self.next_release = self.compute_next_release();
     }
 
@@ -151,7 +177,7 @@ impl Transmitter {
         let mut next = self.resume_at;
         for t in [
             self.own.front().map(|s| s.start),
-            self.background.front().map(|s| s.start),
+            self.background.front().map(|q| q.seg.start),
         ]
         .into_iter()
         .flatten()
@@ -176,12 +202,16 @@ impl Transmitter {
     /// filler it resumes, and no queued background segment starts before it (one would be
     /// shadowed and resumed instead).
     fn resume_is_silent(&self, at: Instant) -> bool {
-        self.silent_resume && self.background.front().is_none_or(|b| b.start >= at)
+        self.silent_resume && self.background.front().is_none_or(|b| b.seg.start >= at)
     }
 
-    /// Starts of the queued background segments (forwarded input, filler), in order.
+    /// Starts of the queued background segments that will be released as output
+    /// (forwarded input unless carried, filler), in order.
     pub(crate) fn background_starts(&self) -> impl Iterator<Item = Instant> + '_ {
-        self.background.iter().map(|s| s.start)
+        self.background
+            .iter()
+            .filter(|q| !q.carried)
+            .map(|q| q.seg.start)
     }
 
     /// Releases every output segment that starts at or before `now`.
@@ -215,8 +245,8 @@ impl Transmitter {
                 let open = seg.then_filler;
                 self.emit(seg);
                 self.implied_open = open;
-            } else if self.background.front().is_some_and(|s| s.start == t) {
-                let Some(seg) = self.background.pop_front() else {
+            } else if self.background.front().is_some_and(|q| q.seg.start == t) {
+                let Some(Queued { seg, carried }) = self.background.pop_front() else {
                     break;
                 };
                 if t >= self.own_until {
@@ -226,14 +256,15 @@ impl Transmitter {
                     // A forwarded telegram after an own one continues from the level the
                     // line is at, as own telegrams do (NRZI decodes it the same; without
                     // this its first flag bit would be lost downstream).
+                    // A copy the user carries is only followed, not released.
                     if matches!(seg.signal, LineSignal::Bits(_))
                         && seg.level_before != self.level_at(t)
                     {
                         self.bg_active = Some(seg.clone());
-                        self.emit(seg.inverted());
+                        self.put_out(seg.inverted(), carried);
                     } else {
                         self.bg_active = None;
-                        self.emit(seg);
+                        self.put_out(seg, carried);
                         self.last_is_bg = true;
                     }
                 } else {
@@ -251,8 +282,16 @@ impl Transmitter {
                         // A bits segment resumes at its first bit boundary after `t`: it is
                         // released when time reaches it, so that the output stays in order of
                         // start, unless the next background segment replaces it first.
-                        if self.background.front().is_none_or(|b| b.start > rest.start) {
-                            self.background.push_front(rest);
+                        if self
+                            .background
+                            .front()
+                            .is_none_or(|b| b.seg.start > rest.start)
+                        {
+                            // Not a copy of the input any more: released as output.
+                            self.background.push_front(Queued {
+                                seg: rest,
+                                carried: false,
+                            });
                         }
                     } else {
                         if !matches!(rest.signal, LineSignal::Bits(_)) {
@@ -286,6 +325,17 @@ impl Transmitter {
             }
         }
         self.next_release = self.compute_next_release();
+    }
+
+    /// Emits `seg`, or, for a copy the user carries, only makes it the line's last segment.
+    fn put_out(&mut self, seg: LineSegment, carried: bool) {
+        if !carried {
+            self.emit(seg);
+            return;
+        }
+        self.last_out = Some(LineSegment { hint: None, ..seg });
+        self.last_is_bg = false;
+        self.implied_open = false;
     }
 
     fn emit(&mut self, seg: LineSegment) {

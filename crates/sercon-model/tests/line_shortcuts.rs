@@ -1,13 +1,16 @@
-//! A telegram that carries the filler after it (`LineSegment::then_filler`,
-//! `Chip::set_implied_filler`) is the same line signal as the telegram and its filler as two
-//! segments: a chip downstream ends in exactly the same state either way (spec-notes
-//! "Implied filler"; 410B §1 repeater, §4.1 2H.12 RDIST, 2H.13 FIBBR).
+//! Two shortcuts a simulation may take on the line, and that they change nothing a chip
+//! shows (spec-notes "Implied filler", "Forwarded copies carried"; 410B §1 repeater, §4.1
+//! 2H.12 RDIST, 2H.13 FIBBR):
 //!
-//! Two senders, identical but for the implied filler, send the same telegrams and repeat the
-//! same input (shadowed by their own telegrams, resumed after them: 410B §1 "The slaves
-//! regenerate and repeat their received data or send their own telegrams"); each feeds its
-//! own receiver, which also gets the same extra segments in the gaps. Both receivers (and
-//! both senders) must show the same frames, RAM, registers and pin levels.
+//! * A telegram that carries the filler after it (`LineSegment::then_filler`,
+//!   `Chip::set_implied_filler`) is the same line signal as the telegram and its filler as
+//!   two segments. Two senders, identical but for the implied filler, send the same telegrams
+//!   and repeat the same input (shadowed by their own telegrams, resumed after them: 410B §1
+//!   "The slaves regenerate and repeat their received data or send their own telegrams");
+//!   each feeds its own receiver, which also gets the same extra segments in the gaps. Both
+//!   receivers (and both senders) must show the same frames, RAM, registers and pin levels.
+//! * A repeater whose forwarded copies are carried by the simulation
+//!   (`Chip::set_forward_output(false)`) releases exactly the rest of its output.
 
 use proptest::prelude::*;
 use sercon_model::pins::Pin;
@@ -345,4 +348,69 @@ fn an_edgeless_tail_raises_fibbr_with_or_without_the_filler() {
     receiver_case(&[true; 100], 0, 90, 1);
     receiver_case(&[true; 100], -10, 80, 0);
     receiver_case(&[true; 100], 5, 95, 2);
+}
+
+/// The segments a REPON sender releases for `steps`, with its forwarded copies released or
+/// not (`Chip::set_forward_output`), and the starts of those copies.
+fn released(steps: &[Step], forward: bool) -> (Vec<LineSegment>, Vec<Instant>) {
+    let mut sender = chip(true);
+    sender.set_forward_output(forward);
+    let bt = Duration::from_nanos(62) + Duration::from_picos(500);
+    let latency = bt.saturating_mul(sercon_model::serial_port::REPEATER_LATENCY_BITS);
+    let (mut t_send, mut out, mut copies) = (
+        Instant::ZERO + Duration::from_micros(2),
+        Vec::new(),
+        Vec::new(),
+    );
+    let mut t_in = t_send;
+    for s in steps {
+        match s {
+            Step::Send { gap, bytes } => {
+                let at = t_send.max(sender.now()) + bt.saturating_mul(*gap);
+                sender.advance_to(at);
+                sender.take_line_output(&mut out);
+                if let Some(end) = sender.transmit_telegram(at, bytes) {
+                    t_send = end;
+                }
+            }
+            Step::Input { gap, kind, bits } => {
+                let at = t_in.max(sender.now()) + bt.saturating_mul(*gap);
+                sender.advance_to(at);
+                sender.take_line_output(&mut out);
+                let seg = LineSegment {
+                    signal: signal(*kind, bits),
+                    ..LineSegment::steady(at, bt, LineSignal::Filler, false)
+                };
+                t_in = seg.end().unwrap_or(at);
+                copies.push(at + latency);
+                sender.line_input(seg);
+            }
+            Step::Extra { .. } => {}
+        }
+    }
+    sender.advance_to(t_send.max(t_in).max(sender.now()) + Duration::from_micros(20));
+    sender.take_line_output(&mut out);
+    (out, copies)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+    // 410B §1 "The slaves regenerate and repeat their received data or send their own
+    // telegrams": without its forwarded copies a repeater releases exactly the rest of what
+    // it releases with them (own telegrams, what resumes after one), at the same levels.
+    #[test]
+    fn without_forwarded_copies_a_repeater_releases_the_rest_unchanged(
+        steps in proptest::collection::vec(step(), 1..30),
+    ) {
+        let (with, copies) = released(&steps, true);
+        let (without, _) = released(&steps, false);
+        // A copy starts a latency after its input and has no hint (the inputs have none; own
+        // telegrams have theirs).
+        let rest: Vec<&LineSegment> = with
+            .iter()
+            .filter(|s| !(copies.contains(&s.start) && s.hint.is_none()))
+            .collect();
+        let without: Vec<&LineSegment> = without.iter().collect();
+        prop_assert_eq!(rest, without);
+    }
 }
