@@ -3,7 +3,8 @@
 //! fed to a chip that is advanced in bounded steps must never panic or hang
 //! (`crates/sercon-model`: "no panics from input"; 410B §4.2 every RAM walk is bounded).
 //!
-//! Input: byte 0 picks the variant, master/slave and tracing; then 512 bytes of RAM image
+//! Input: byte 0 picks the variant, master/slave, tracing, implied filler and whether
+//! forwarded copies are released; then 512 bytes of RAM image
 //! (256 words from word 0, the rest of the RAM filled by repeating them); then 4-byte
 //! records `op, a, b, c`: op % 4 = 0 write register a := bc, 1 line segment (kind a % 4,
 //! bit time from b, length from c, the following c bytes as bits / hint telegram),
@@ -33,6 +34,9 @@ fuzz_target!(|data: &[u8]| {
     if h0 & 2 != 0 {
         chip.set_traced_pins(PinSet::ALL);
     }
+    // The simulator's line shortcuts (implied filler, forwarded copies carried).
+    chip.set_implied_filler(h0 & 8 != 0);
+    chip.set_forward_output(h0 & 16 == 0);
     let (image, mut body) = rest.split_at(rest.len().min(512));
     let words: Vec<u16> = image
         .chunks(2)
