@@ -25,6 +25,49 @@ pub struct BenchArgs {
     /// Which scenarios: the static ring's, the full stack's, or both.
     #[arg(long, value_enum, default_value_t = Stack::All)]
     stack: Stack,
+    /// Runs of each scenario, each from a fresh simulation; the fastest is reported, with
+    /// the median real-time factor (`"runs"`, `"rtf_median"` in JSON). One run's wall time
+    /// on a shared or virtual machine varies by tens of percent.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    repeat: u32,
+}
+
+/// The fastest of `runs` (by wall time) and the median real-time factor; `None` for no runs.
+fn best_of<T>(runs: Vec<T>, wall: impl Fn(&T) -> f64, rtf: impl Fn(&T) -> f64) -> Option<(T, f64)> {
+    let mut rtfs: Vec<f64> = runs.iter().map(&rtf).collect();
+    rtfs.sort_by(f64::total_cmp);
+    let median = match rtfs.len() {
+        0 => return None,
+        n if n % 2 == 1 => rtfs.get(n / 2).copied().unwrap_or(0.0),
+        n => {
+            (rtfs.get(n / 2 - 1).copied().unwrap_or(0.0) + rtfs.get(n / 2).copied().unwrap_or(0.0))
+                / 2.0
+        }
+    };
+    let best = runs
+        .into_iter()
+        .min_by(|a, b| wall(a).total_cmp(&wall(b)))?;
+    Some((best, median))
+}
+
+/// A one-line JSON object with `"runs"` and `"rtf_median"` added (when more than one run).
+fn with_runs(json: String, runs: u32, median: f64) -> String {
+    if runs <= 1 {
+        return json;
+    }
+    match json.strip_suffix('}') {
+        Some(body) => format!("{body},\"runs\":{runs},\"rtf_median\":{median:.3}}}"),
+        None => json,
+    }
+}
+
+/// The text suffix for more than one run.
+fn runs_text(runs: u32, median: f64) -> String {
+    if runs <= 1 {
+        String::new()
+    } else {
+        format!(", fastest of {runs} runs (median {median:.1}× real time)")
+    }
 }
 
 /// Which group of scenarios `sercon bench` runs.
@@ -66,12 +109,18 @@ pub fn run(args: BenchArgs) -> Result<()> {
     for s in ring {
         let cycle_us = u64::from(s.ring.cycle_us).max(1);
         let cycles = (args.sim_ms.saturating_mul(1000) / cycle_us).max(1);
-        let r = scenario::run(&s, cycles).with_context(|| format!("scenario {}", s.name))?;
+        let mut runs = Vec::new();
+        for _ in 0..args.repeat {
+            runs.push(scenario::run(&s, cycles).with_context(|| format!("scenario {}", s.name))?);
+        }
+        let Some((r, median)) = best_of(runs, |r| r.wall_s, |r| r.rtf) else {
+            continue;
+        };
         if args.json {
-            println!("{}", r.to_json());
+            println!("{}", with_runs(r.to_json(), args.repeat, median));
         } else {
             println!(
-                "{:<9} {:>3} slaves {:>2} Mbit/s {:>5} µs cycle: {:.3} s simulated in {:.3} s, {:.1}× real time, {:.1} µs wall per cycle",
+                "{:<9} {:>3} slaves {:>2} Mbit/s {:>5} µs cycle: {:.3} s simulated in {:.3} s, {:.1}× real time, {:.1} µs wall per cycle{}",
                 r.scenario,
                 r.slaves,
                 r.bit_rate_mbit,
@@ -79,19 +128,36 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 r.sim_s,
                 r.wall_s,
                 r.rtf,
-                r.wall_us_per_cycle
+                r.wall_us_per_cycle,
+                runs_text(args.repeat, median)
             );
         }
     }
     let mut failed = Vec::new();
     for s in full {
         let sim = Duration::from_millis(args.sim_ms);
-        let r = match full_stack::run(&s, sim) {
-            Ok(r) => r,
-            Err(e) => {
+        let mut runs = Vec::new();
+        let mut error = None;
+        for _ in 0..args.repeat {
+            match full_stack::run(&s, sim) {
+                Ok(r) => runs.push(r),
+                Err(e) => {
+                    error = Some(e);
+                    break;
+                }
+            }
+        }
+        let best = match error {
+            None => best_of(runs, |r| r.wall_s, |r| r.rtf),
+            Some(_) => None,
+        };
+        let (r, median) = match (best, error) {
+            (Some(best), _) => best,
+            (None, e) => {
+                let e = e.map_or_else(|| "no run".to_string(), |e| e.to_string());
                 // The other scenarios still run; the exit status says one failed.
                 if args.json {
-                    let error = serde_json::Value::String(e.to_string());
+                    let error = serde_json::Value::String(e.clone());
                     println!(
                         "{{\"scenario\":\"{}\",\"stack\":\"full\",\"slaves\":{},\"error\":{error}}}",
                         s.name, s.drives
@@ -104,13 +170,13 @@ pub fn run(args: BenchArgs) -> Result<()> {
             }
         };
         if args.json {
-            println!("{}", r.to_json());
+            println!("{}", with_runs(r.to_json(), args.repeat, median));
         } else {
             let rss = r
                 .peak_rss_mib
                 .map_or_else(|| "?".to_string(), |m| format!("{m:.1}"));
             println!(
-                "{:<9} {:>3} drives {:>2} Mbit/s {:>5} µs cycle, full stack: {:.3} s simulated in {:.3} s, {:.1}× real time, {:.1} µs wall per cycle; phase-up {:.3} s simulated in {:.3} s; peak RSS {} MiB",
+                "{:<9} {:>3} drives {:>2} Mbit/s {:>5} µs cycle, full stack: {:.3} s simulated in {:.3} s, {:.1}× real time, {:.1} µs wall per cycle; phase-up {:.3} s simulated in {:.3} s; peak RSS {} MiB{}",
                 r.scenario,
                 r.slaves,
                 r.bit_rate_mbit,
@@ -121,7 +187,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 r.wall_us_per_cycle,
                 r.phaseup_sim_s,
                 r.phaseup_wall_s,
-                rss
+                rss,
+                runs_text(args.repeat, median)
             );
         }
     }
@@ -129,4 +196,31 @@ pub fn run(args: BenchArgs) -> Result<()> {
         bail!("scenarios failed: {}", failed.join(", "));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn best_of_takes_the_least_wall_time_and_the_median_factor() {
+        // (wall, rtf) pairs: the median of 3 is the middle factor, of 4 the mean of the two.
+        let three = vec![(2.0, 5.0), (1.0, 10.0), (4.0, 2.5)];
+        let (best, median) = best_of(three, |r| r.0, |r| r.1).expect("runs");
+        assert_eq!(best, (1.0, 10.0));
+        assert_eq!(median, 5.0);
+        let four = vec![(2.0, 5.0), (1.0, 10.0), (4.0, 2.5), (2.5, 4.0)];
+        let (_, median) = best_of(four, |r| r.0, |r| r.1).expect("runs");
+        assert_eq!(median, 4.5);
+        assert!(best_of(Vec::<(f64, f64)>::new(), |r| r.0, |r| r.1).is_none());
+    }
+
+    #[test]
+    fn runs_are_added_to_the_json_only_for_more_than_one() {
+        assert_eq!(with_runs("{\"a\":1}".into(), 1, 2.0), "{\"a\":1}");
+        assert_eq!(
+            with_runs("{\"a\":1}".into(), 3, 2.0),
+            "{\"a\":1,\"runs\":3,\"rtf_median\":2.000}"
+        );
+    }
 }

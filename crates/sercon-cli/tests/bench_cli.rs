@@ -1,0 +1,85 @@
+//! `sercon bench`: the JSON line of a ring scenario (issue 5: at least scenario, slaves,
+//! bit_rate_mbit, cycle_us, phase, sim_s, wall_s, rtf) and `--repeat`, which reports the
+//! fastest of several runs with the median real-time factor.
+
+mod cli_support;
+
+use cli_support::sercon;
+
+fn json_lines(out: &std::process::Output) -> Vec<serde_json::Value> {
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+        .collect()
+}
+
+#[test]
+fn one_run_prints_the_issue_fields() {
+    let out = sercon(&["bench", "--scenario", "ring-n8", "--sim-ms", "8", "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines = json_lines(&out);
+    assert_eq!(lines.len(), 1);
+    let v = &lines[0];
+    assert_eq!(v["scenario"], "ring-n8");
+    assert_eq!(v["slaves"], 8);
+    assert_eq!(v["bit_rate_mbit"], 16);
+    assert_eq!(v["cycle_us"], 4000);
+    assert_eq!(v["phase"], 4);
+    assert!((v["sim_s"].as_f64().unwrap_or(0.0) - 0.008).abs() < 1e-9);
+    assert!(v["wall_s"].as_f64().is_some_and(|w| w > 0.0));
+    assert!(v["rtf"].as_f64().is_some_and(|r| r > 0.0));
+    // One run: nothing about runs.
+    assert!(v.get("runs").is_none());
+}
+
+#[test]
+fn repeat_reports_the_fastest_run_and_the_median() {
+    let out = sercon(&[
+        "bench",
+        "--scenario",
+        "ring-n8",
+        "--sim-ms",
+        "8",
+        "--repeat",
+        "3",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines = json_lines(&out);
+    assert_eq!(lines.len(), 1);
+    let v = &lines[0];
+    assert_eq!(v["runs"], 3);
+    let (rtf, median) = (
+        v["rtf"].as_f64().unwrap_or(0.0),
+        v["rtf_median"].as_f64().unwrap_or(f64::MAX),
+    );
+    // The fastest run has the highest real-time factor (the JSON rounds to 3 decimals).
+    assert!(rtf + 0.001 >= median, "{rtf} < {median}");
+    let text = sercon(&[
+        "bench",
+        "--scenario",
+        "ring-n8",
+        "--sim-ms",
+        "8",
+        "--repeat",
+        "2",
+    ]);
+    assert!(text.status.success());
+    assert!(String::from_utf8_lossy(&text.stdout).contains("fastest of 2 runs"));
+}
+
+#[test]
+fn a_repeat_of_zero_is_refused_with_a_message() {
+    let out = sercon(&["bench", "--scenario", "ring-n8", "--repeat", "0"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--repeat"));
+    assert!(out.stdout.is_empty());
+}
