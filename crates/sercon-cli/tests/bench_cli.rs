@@ -6,24 +6,30 @@ mod cli_support;
 
 use cli_support::sercon;
 
-fn json_lines(out: &std::process::Output) -> Vec<serde_json::Value> {
-    String::from_utf8_lossy(&out.stdout)
-        .lines()
-        .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
-        .collect()
+/// `sercon bench` on the smallest ring scenario for 8 simulated ms, then `more`.
+fn ring_n8(more: &[&'static str]) -> Vec<&'static str> {
+    let mut args = vec!["bench", "--scenario", "ring-n8", "--sim-ms", "8"];
+    args.extend_from_slice(more);
+    args
 }
 
-#[test]
-fn one_run_prints_the_issue_fields() {
-    let out = sercon(&["bench", "--scenario", "ring-n8", "--sim-ms", "8", "--json"]);
+/// Runs `sercon args…`, which must succeed with exactly one JSON object on one line.
+fn one_json(args: &[&str]) -> serde_json::Value {
+    let out = sercon(args);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let lines = json_lines(&out);
-    assert_eq!(lines.len(), 1);
-    let v = &lines[0];
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 1, "{text}");
+    serde_json::from_str(lines[0]).expect("one JSON object per line")
+}
+
+#[test]
+fn one_run_prints_the_issue_fields() {
+    let v = one_json(&ring_n8(&["--json"]));
     assert_eq!(v["scenario"], "ring-n8");
     assert_eq!(v["slaves"], 8);
     assert_eq!(v["bit_rate_mbit"], 16);
@@ -38,24 +44,7 @@ fn one_run_prints_the_issue_fields() {
 
 #[test]
 fn repeat_reports_the_fastest_run_and_the_median() {
-    let out = sercon(&[
-        "bench",
-        "--scenario",
-        "ring-n8",
-        "--sim-ms",
-        "8",
-        "--repeat",
-        "3",
-        "--json",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let lines = json_lines(&out);
-    assert_eq!(lines.len(), 1);
-    let v = &lines[0];
+    let v = one_json(&ring_n8(&["--repeat", "3", "--json"]));
     assert_eq!(v["runs"], 3);
     let (rtf, median) = (
         v["rtf"].as_f64().unwrap_or(0.0),
@@ -63,15 +52,7 @@ fn repeat_reports_the_fastest_run_and_the_median() {
     );
     // The fastest run has the highest real-time factor (the JSON rounds to 3 decimals).
     assert!(rtf + 0.001 >= median, "{rtf} < {median}");
-    let text = sercon(&[
-        "bench",
-        "--scenario",
-        "ring-n8",
-        "--sim-ms",
-        "8",
-        "--repeat",
-        "2",
-    ]);
+    let text = sercon(&ring_n8(&["--repeat", "2"]));
     assert!(text.status.success());
     assert!(String::from_utf8_lossy(&text.stdout).contains("fastest of 2 runs"));
 }
