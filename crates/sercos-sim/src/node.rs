@@ -46,8 +46,6 @@ pub(crate) struct Node {
     pub(crate) track_levels: bool,
     /// Start of the last input segment (local time).
     pub(crate) in_floor: Instant,
-    /// The last segment handed to the receiver (local time).
-    pub(crate) last_in: Option<LineSegment>,
     /// The chip repeats its input (1H.3 REPON, transmitter on, no test mode).
     pub(crate) repeating: bool,
     /// The pending wake event.
@@ -81,7 +79,6 @@ impl Node {
             last_out: None,
             track_levels: true,
             in_floor: Instant::ZERO,
-            last_in: None,
             repeating: false,
             wake: None,
             vcd: None,

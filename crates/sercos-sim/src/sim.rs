@@ -790,13 +790,15 @@ impl Simulation {
         // The fast path leaves out segments this receiver ignores, so the level it saw
         // last may differ from the sender's: a telegram is taken from the level the
         // receiver is at (NRZI decodes an inverted telegram the same).
-        if let (LineSignal::Bits(_), Some(last)) = (&local.signal, &node.last_in)
-            && local.level_before != last.level_at(local.start)
+        if matches!(local.signal, LineSignal::Bits(_))
+            && node
+                .chip
+                .received_level_at(local.start)
+                .is_some_and(|level| level != local.level_before)
         {
             // The sender's hint has the inverted bits at hand (`FrameHint::twin`).
             local = local.inverted();
         }
-        node.last_in = Some(local.clone());
         // The exact path matches the repeater's copies with what it delivered; on the fast
         // path the chip releases none (`Chip::set_forward_output`).
         if repeating && self.delivery == Delivery::Exact {
@@ -1011,7 +1013,6 @@ impl Simulation {
                 n.expect.clear();
                 n.resume = None;
                 n.in_floor = local;
-                n.last_in = None;
                 n.last_out = None;
                 n.host_deadline = None;
                 n.ints = (

@@ -136,6 +136,14 @@ impl Chip {
         self.serial.set_rx_log(on);
     }
 
+    /// The light level of the receive line at `t` (≥ the last segment's start) as the last
+    /// segment given to [`Chip::line_input`] decides it; `None` before the first. A
+    /// simulation that leaves out segments a receiver ignores hands a telegram over from the
+    /// level the receiver is at (NRZI decodes it the same either way).
+    pub fn received_level_at(&self, t: Instant) -> Option<bool> {
+        self.serial.received_level_at(t)
+    }
+
     /// Whether the repeater's copies of the received signal (410B §1 "The slaves regenerate
     /// and repeat their received data", 1H.3 REPON) appear in the line output (on after
     /// [`Chip::new`]). A simulation that carries every received segment down the ring itself
