@@ -563,6 +563,10 @@ impl SerconBus for Chip {
         if let Some(word) = self.ram.get_mut(usize::from(address & mask)) {
             *word = value;
         }
+        // A header ahead may have changed: the output bound's remembered walks go (the
+        // processor's next tick does not read the RAM; found by fuzz target bus_sequence).
+        self.tp.tx_ahead.set(None);
+        self.out_bound.set(None);
     }
 }
 

@@ -198,20 +198,16 @@ fn frame(start: Instant, bytes: &[u8]) -> LineSegment {
     }
 }
 
-// 410B §4.2.1/§4.2.2: a receive container laid over a transmit header two headers ahead (a
-// programming error the chip still runs): the first AT's data turn that header's EN from 0
-// to 2, so the master sends a third telegram after the second AT. What the bound walked
-// before the data arrived must not survive the controller's own write.
-#[test]
-fn received_data_that_enable_a_header_ahead_move_the_bound() {
+/// A master whose list is COMPT0 → MDT (TRT 2) → AT 1 (TRT 20, its data container laid over
+/// the header at 37) → AT 2 (TRT 60) → the header at 37 (a transmit header, TRT 120, EN = 0)
+/// → end marker; and that header.
+fn master_with_a_header_ahead() -> (Chip, TxHeader) {
     let v = Variant::Sercon816;
     let mut m = Chip::new(ChipConfig::sercon816());
     m.write(Register::MclkDiv, 15);
     m.write(Register::Tscyc0, 250);
     let c1 = m.read(Register::Ctrl1);
     m.write(Register::Ctrl1, c1 & !(1 << 3));
-    // COMPT0 → MDT (TRT 2) → AT 1 (TRT 20, data over the header at 37) → AT 2 (TRT 60) →
-    // the header at 37 (TRT 120, EN = 0 at first) → end marker.
     let mdt = TxHeader {
         adr: 255,
         en: TxEnable::Continuous,
@@ -257,6 +253,17 @@ fn received_data_that_enable_a_header_ahead_move_the_bound() {
     m.write(Register::Phas, 0x0404);
     m.write(Register::Ctrl3, 1 << 8);
     m.write(Register::Ctrl0C, 0b11 | (1 << 10));
+    (m, third)
+}
+
+// 410B §4.2.1/§4.2.2: a receive container laid over a transmit header two headers ahead (a
+// programming error the chip still runs): the first AT's data turn that header's EN from 0
+// to 2, so the master sends a third telegram after the second AT. What the bound walked
+// before the data arrived must not survive the controller's own write.
+#[test]
+fn received_data_that_enable_a_header_ahead_move_the_bound() {
+    let v = Variant::Sercon816;
+    let (mut m, third) = master_with_a_header_ahead();
     // AT 1 carries the header at 37 with EN = 2 (words little-endian, 410B §4.2.2 POS).
     let enabled = TxHeader {
         en: TxEnable::Continuous,
@@ -306,6 +313,31 @@ fn received_data_that_enable_a_header_ahead_move_the_bound() {
         enabled.to_words(v)[0],
         "AT 1 stored over it"
     );
+}
+
+// 410B §4.2.1 EN: the host enables a transmit header ahead of the current receive header
+// (a RAM write through the bus): what the bound walked before must not survive it (found
+// by fuzz target bus_sequence: a host RAM write kept the remembered walk).
+#[test]
+fn a_host_write_to_a_header_ahead_drops_the_remembered_walk() {
+    let v = Variant::Sercon816;
+    let (mut m, third) = master_with_a_header_ahead();
+    // After the MST and the MDT the master waits for AT 1; nothing of its own is ahead in
+    // this block (the header at 37 is off).
+    m.advance_to(Instant::ZERO + Duration::from_micros(10));
+    // Asked once: the walk ahead is remembered (debug builds check it on every use).
+    let _ = m.next_output_bound();
+    let enabled = TxHeader {
+        en: TxEnable::Continuous,
+        ..third
+    };
+    m.write_ram_words(37, &enabled.to_words(v));
+    let after = m.next_output_bound();
+    // The same chip built with the header on from the start (nothing remembered).
+    let (mut fresh, _) = master_with_a_header_ahead();
+    fresh.write_ram_words(37, &enabled.to_words(v));
+    fresh.advance_to(Instant::ZERO + Duration::from_micros(10));
+    assert_eq!(after, fresh.next_output_bound());
 }
 
 proptest! {
