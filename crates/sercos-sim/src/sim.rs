@@ -299,7 +299,7 @@ impl Simulation {
             plain_pass: None,
         };
         sim.start_hosts();
-        sim.settle()?;
+        sim.settle();
         if let Some(e) = sim.held_error.take() {
             return Err(e);
         }
@@ -369,7 +369,7 @@ impl Simulation {
         for j in 0..self.nodes.len() {
             self.advance_node(j, t);
         }
-        self.settle()?;
+        self.settle();
         if let Some(e) = self.held_error.take() {
             return Err(e);
         }
@@ -388,7 +388,7 @@ impl Simulation {
                 }
                 if self.wake_node(j, time)? {
                     // Served and rescheduled: one settle round is spent.
-                    self.settle_rounds(1)?;
+                    self.settle_rounds(1);
                     if let Some(e) = self.held_error.take() {
                         return Err(e);
                     }
@@ -398,7 +398,7 @@ impl Simulation {
             Ev::FaultStart(i) => self.fault_start(i, time)?,
             Ev::FaultEnd(i) => self.fault_end(i, time)?,
         }
-        self.settle()?;
+        self.settle();
         if let Some(e) = self.held_error.take() {
             return Err(e);
         }
@@ -448,7 +448,7 @@ impl Simulation {
         // `serve_node` with nothing due but the output; `refresh_hop` would find what it
         // found last (only hosts, power and clock faults change it, and they serve the node).
         self.route_outputs(j);
-        self.reschedule(j)?;
+        self.set_wake(j);
         Ok(true)
     }
 
@@ -467,32 +467,31 @@ impl Simulation {
 
     /// Serves the nodes an event touched (pins, hosts, outputs) until quiet, then
     /// reschedules them.
-    fn settle(&mut self) -> Result<(), SimError> {
-        self.settle_rounds(0)
+    fn settle(&mut self) {
+        self.settle_rounds(0);
     }
 
     /// [`Simulation::settle`] after `used` rounds of the event's budget.
-    fn settle_rounds(&mut self, used: usize) -> Result<(), SimError> {
+    fn settle_rounds(&mut self, used: usize) {
         for _ in used..MAX_SETTLE_ROUNDS {
             let Some(j) = self.touched.pop() else {
                 self.set_rewakes();
-                return Ok(());
+                return;
             };
             if let Some(t) = self.is_touched.get_mut(j) {
                 *t = false;
             }
             self.serve(j);
-            self.reschedule(j)?;
+            self.set_wake(j);
         }
         // Left over: reschedule without serving (nothing is lost; they run at their time).
         while let Some(j) = self.touched.pop() {
             if let Some(t) = self.is_touched.get_mut(j) {
                 *t = false;
             }
-            self.reschedule(j)?;
+            self.set_wake(j);
         }
         self.set_rewakes();
-        Ok(())
     }
 
     /// Sets the wakes of the nodes deliveries left to be rescheduled only.
@@ -852,12 +851,6 @@ impl Simulation {
         self.touch(j);
     }
 
-    /// Schedules node `j`'s next wake.
-    fn reschedule(&mut self, j: usize) -> Result<(), SimError> {
-        self.set_wake(j);
-        Ok(())
-    }
-
     /// Sets node `j`'s wake to [`Simulation::next_wake`].
     fn set_wake(&mut self, j: usize) {
         let Some(wake) = self.next_wake(j) else {
@@ -873,7 +866,7 @@ impl Simulation {
         }
     }
 
-    /// Node `j`'s next wake as [`Simulation::reschedule`] sets it; `None` when the pending
+    /// Node `j`'s next wake as [`Simulation::set_wake`] sets it; `None` when the pending
     /// one stays as it is.
     fn next_wake(&self, j: usize) -> Option<Option<Instant>> {
         let now = self.now;
@@ -949,7 +942,7 @@ impl Simulation {
                 for k in 0..self.nodes.len() {
                     self.advance_node(k, t);
                 }
-                self.settle()?;
+                self.settle();
                 if let Some(n) = self.nodes.get_mut(node) {
                     n.powered = false;
                     if n.wake.take().is_some() {

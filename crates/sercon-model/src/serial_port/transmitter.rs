@@ -234,8 +234,9 @@ impl Transmitter {
                 self.own_until = seg.end().unwrap_or(t);
                 self.resume_at = Some(self.own_until);
                 // The background resumed after it is plain filler of the same bit time
-                // (a master's idle signal, or the filler a slave repeats): it travels with
-                // the telegram, and the resume sends nothing unless that changes.
+                // (410B §1: a master's idle filler, or the filler a slave repeats, "or send
+                // their own telegrams"): it travels with the telegram (spec-notes "Implied
+                // filler"), and the resume sends nothing unless that changes.
                 self.silent_resume = self.implied_filler
                     && self
                         .bg_active
@@ -311,7 +312,8 @@ impl Transmitter {
                 }
                 if !sent && self.implied_open {
                     // The own telegram said filler follows; the line keeps its last level
-                    // instead: a segment of no bits says so (a steady hold).
+                    // instead: a segment of no bits says so (a steady hold; spec-notes
+                    // "Implied filler").
                     let hold = LineSegment::bits(
                         t,
                         self.last_out

@@ -213,7 +213,7 @@ impl Simulation {
             if due {
                 self.touch(j);
             }
-            self.settle()?;
+            self.settle();
             let step = self
                 .nodes
                 .get(j)
