@@ -275,7 +275,19 @@ impl Transmitter {
                 }
             } else {
                 self.resume_at = None;
-                let silent = std::mem::take(&mut self.silent_resume);
+                if std::mem::take(&mut self.silent_resume) {
+                    // The own telegram's implied filler is this very filler: the background
+                    // it resumes has not changed since (any change clears `silent_resume`),
+                    // and `resumes_filler` found it filler from here on. Nothing to send.
+                    debug_assert!(
+                        self.bg_active
+                            .as_ref()
+                            .and_then(|bg| bg.from_instant(t))
+                            .is_some_and(|r| r.start == t
+                                && matches!(r.signal, LineSignal::Filler))
+                    );
+                    continue;
+                }
                 let rest = self.bg_active.as_ref().and_then(|bg| bg.from_instant(t));
                 let mut sent = false;
                 if let Some(mut rest) = rest {
@@ -299,12 +311,6 @@ impl Transmitter {
                             // A steady signal starts afresh from the level the own telegram
                             // left.
                             rest.level_before = self.level_at(t);
-                        }
-                        if silent {
-                            // The own telegram's implied filler is this very filler
-                            // (`silent_resume`): nothing to send.
-                            debug_assert!(matches!(rest.signal, LineSignal::Filler));
-                            continue;
                         }
                         self.emit(rest);
                         sent = true;
