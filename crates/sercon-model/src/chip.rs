@@ -273,6 +273,17 @@ impl Chip {
         }
     }
 
+    /// A receive window that opened by now is opened before a bus access sees the state
+    /// (`telegram_processor::announce_opened`: no event of its own unless an interrupt
+    /// output shows it).
+    fn announce_opened_windows(&mut self) {
+        if self.in_reset {
+            return;
+        }
+        let tick = self.clock.tick_at_or_before(self.now);
+        crate::telegram_processor::announce_opened(self, tick);
+    }
+
     /// The earliest instant after which the chip may change on its own (without a line
     /// input, a pin input or a bus access): its next internal event (timing control,
     /// watchdog, telegram processor, a serial-port change of FIBBR, RDIST or a traced pin)
@@ -538,11 +549,13 @@ impl Chip {
 impl SerconBus for Chip {
     fn read_register(&mut self, address: u8) -> u16 {
         self.touched();
+        self.announce_opened_windows();
         crate::register_access::read(self, address)
     }
 
     fn write_register(&mut self, address: u8, value: u16) {
         self.touched();
+        self.announce_opened_windows();
         crate::register_access::write(self, address, value);
     }
 
@@ -559,6 +572,8 @@ impl SerconBus for Chip {
         if self.in_reset {
             return;
         }
+        // THW holds the header word as it was when the window opened.
+        self.announce_opened_windows();
         let mask = self.cfg.variant.ram_address_mask();
         if let Some(word) = self.ram.get_mut(usize::from(address & mask)) {
             *word = value;

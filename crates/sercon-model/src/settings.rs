@@ -8,6 +8,9 @@ use sercon_regs::{Register, Variant};
 use crate::register_file::RegisterFile;
 
 /// The bit `n` of `word`.
+/// 410B §4.1 4H.12 INT_RWAIT.
+const RWAIT_BIT: u8 = 12;
+
 const fn bit(word: u16, n: u8) -> bool {
     word & (1 << n) != 0
 }
@@ -23,6 +26,10 @@ pub(crate) struct Settings {
     pub(crate) en_lo: [u16; 2],
     /// See [`Settings::en_lo`].
     pub(crate) en_hi: [u16; 2],
+    /// An enabled interrupt output carries 4H.12 INT_RWAIT (3H.1/3H.4 ENINT0/1 with bit 12
+    /// of 6H / 8H): only then can a receive window's opening be seen at the moment it
+    /// happens (spec-notes "Receive window opening").
+    pub(crate) rwait_out: bool,
     /// 816 §2.11.2 28H.3 EN0_INT_WDOG, 28H.4 EN1_INT_WDOG.
     pub(crate) en_wdog: [bool; 2],
     /// 816 §2.11.2 28H.7 EN0_INT_RSCEND, 28H.8 EN1_INT_RSCEND.
@@ -90,6 +97,8 @@ impl Settings {
             polint: [bit(c3, 2), bit(c3, 5)],
             en_lo: [r(Register::En0IntLo), r(Register::En1IntLo)],
             en_hi: [r(Register::En0IntHi), r(Register::En1IntHi)],
+            rwait_out: (bit(c3, 1) && bit(r(Register::En0IntLo), RWAIT_BIT))
+                || (bit(c3, 4) && bit(r(Register::En1IntLo), RWAIT_BIT)),
             en_wdog: [bit(wd, 3), bit(wd, 4)],
             en_rscend: [bit(wd, 7), bit(wd, 8)],
             wdog_msten: bit(wd, 5),

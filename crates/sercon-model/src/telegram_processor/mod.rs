@@ -207,8 +207,11 @@ pub(crate) fn prog_error(chip: &mut Chip, e: ProgErr) {
 }
 
 impl TelegramProcessor {
-    /// The next tick at which the processor has something to do.
-    pub(crate) fn next_tick(&self) -> Option<u64> {
+    /// The next tick at which the processor has something to do. A receive window's
+    /// opening is one only when `rwait_out` (an enabled interrupt output shows it at once);
+    /// otherwise it is applied with the processor's next event or bus access
+    /// ([`announce_opened`]).
+    pub(crate) fn next_tick(&self, rwait_out: bool) -> Option<u64> {
         let mut best: Option<u64> = None;
         let mut consider = |t: Option<u64>| {
             if let Some(t) = t {
@@ -228,7 +231,7 @@ impl TelegramProcessor {
                     announced,
                     ..
                 }) => {
-                    if announced {
+                    if announced || !rwait_out {
                         close
                     } else {
                         Some(open)
@@ -243,8 +246,8 @@ impl TelegramProcessor {
 
     /// The next tick, given the start tick of the first queued frame (computed by the
     /// chip, which knows the clock).
-    pub(crate) fn next_tick_with(&self, first_frame: Option<u64>) -> Option<u64> {
-        match (self.next_tick(), first_frame) {
+    pub(crate) fn next_tick_with(&self, first_frame: Option<u64>, rwait_out: bool) -> Option<u64> {
+        match (self.next_tick(rwait_out), first_frame) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         }
@@ -282,7 +285,8 @@ pub(crate) fn first_frame_tick(chip: &Chip) -> Option<u64> {
 
 /// The next tick at which the telegram processor acts.
 pub(crate) fn next_tick(chip: &Chip) -> Option<u64> {
-    chip.tp.next_tick_with(first_frame_tick(chip))
+    chip.tp
+        .next_tick_with(first_frame_tick(chip), chip.engine.s.rwait_out)
 }
 
 /// A communication cycle started at `tick` (timing control): a master sends the MST and
@@ -309,6 +313,10 @@ pub(crate) fn on_cycle_start(chip: &mut Chip, tick: u64) {
 
 /// Processes one event due at `tick` (the earliest the processor has).
 pub(crate) fn step(chip: &mut Chip, tick: u64) {
+    // A window that opened before this tick is opened first, as at its own tick.
+    if let Some(before) = tick.checked_sub(1) {
+        announce_opened(chip, before);
+    }
     if chip.tp.tx_end == Some(tick) {
         transmit::end(chip, tick);
         return;
@@ -343,29 +351,15 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
             hdr,
             open,
             close,
-            announced,
+            ..
         }) => {
-            if !announced && open == tick {
-                // 410B §4.1 4H.12 INT_RWAIT "start waiting for receive telegram", 3H.10
-                // FLRWAIT, 23H/24H THWPT/THW: the telegram that is expected.
-                chip.tp.flrwait = true;
-                chip.tp.thwpt = at;
-                chip.tp.thw = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
-                chip.engine.flags.lo |= INT_RWAIT;
-                set_cur(
-                    chip,
-                    Some(Cur::Rx {
-                        at,
-                        hdr,
-                        open,
-                        close,
-                        announced: true,
-                    }),
-                );
-            } else if announced && close == Some(tick) {
+            // The window opens at this tick (after the events above of the same tick, which
+            // may have moved on to another header).
+            announce_opened(chip, tick);
+            if close == Some(tick) {
                 receive::missing(chip, at, hdr);
                 advance(chip, tick, hdr.pt);
-            } else {
+            } else if open != tick {
                 // Defensive: an event in the past cannot be processed any more.
                 abort_block(chip, tick);
             }
@@ -373,6 +367,44 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
         Some(Cur::End { at, ready }) if ready == tick => end_marker(chip, tick, at),
         _ => abort_block(chip, tick),
     }
+}
+
+/// Opens the receive window of the current header if it opened at or before `tick` and
+/// is not open yet: 410B §4.1 4H.12 INT_RWAIT "start waiting for receive telegram", 3H.10
+/// FLRWAIT, 23H/24H THWPT/THW (the telegram that is expected). Unless an enabled interrupt
+/// output shows INT_RWAIT (`Settings::rwait_out`), the opening is no event of its own:
+/// nothing can see it before the processor's next event or a bus access, which apply it
+/// first with the values it had at its tick (the header word is the processor's to write
+/// only in its own events; a host write applies it first too). Spec-notes "Receive window
+/// opening".
+pub(crate) fn announce_opened(chip: &mut Chip, tick: u64) {
+    let Some(Some(Cur::Rx {
+        at,
+        hdr,
+        open,
+        close,
+        announced: false,
+    })) = chip.tp.block.as_ref().map(|b| b.cur)
+    else {
+        return;
+    };
+    if open > tick {
+        return;
+    }
+    chip.tp.flrwait = true;
+    chip.tp.thwpt = at;
+    chip.tp.thw = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
+    chip.engine.flags.lo |= INT_RWAIT;
+    set_cur(
+        chip,
+        Some(Cur::Rx {
+            at,
+            hdr,
+            open,
+            close,
+            announced: true,
+        }),
+    );
 }
 
 fn set_cur(chip: &mut Chip, cur: Option<Cur>) {
