@@ -273,15 +273,20 @@ impl Chip {
         }
     }
 
-    /// A receive window that opened by now is opened before a bus access sees the state
-    /// (`telegram_processor::announce_opened`: no event of its own unless an interrupt
-    /// output shows it).
-    fn announce_opened_windows(&mut self) {
-        if self.in_reset {
+    /// The telegram processor's events up to now that were no events of their own (no
+    /// interrupt output shows them: `telegram_processor::apply_quiet_events`) are applied
+    /// before a bus access sees the state.
+    fn apply_quiet_events(&mut self) {
+        if self.in_reset || !crate::telegram_processor::has_quiet_events(self) {
             return;
         }
         let tick = self.clock.tick_at_or_before(self.now);
-        crate::telegram_processor::announce_opened(self, tick);
+        if crate::telegram_processor::apply_quiet_events(self, tick) {
+            // The processor's next tick stands (these were not in it), the output bound's
+            // walks may not (the block may have ended).
+            self.out_bound.set(None);
+            self.tp.tx_ahead.set(None);
+        }
     }
 
     /// The earliest instant after which the chip may change on its own (without a line
@@ -549,17 +554,19 @@ impl Chip {
 impl SerconBus for Chip {
     fn read_register(&mut self, address: u8) -> u16 {
         self.touched();
-        self.announce_opened_windows();
+        self.apply_quiet_events();
         crate::register_access::read(self, address)
     }
 
     fn write_register(&mut self, address: u8, value: u16) {
         self.touched();
-        self.announce_opened_windows();
+        self.apply_quiet_events();
         crate::register_access::write(self, address, value);
     }
 
     fn read_ram(&mut self, address: u16) -> u16 {
+        // TEND of an end marker passed.
+        self.apply_quiet_events();
         // 410B §2: A10-1 select the RAM word (816 §2.5: A11-1); higher bits are not decoded.
         let mask = self.cfg.variant.ram_address_mask();
         self.ram
@@ -572,8 +579,9 @@ impl SerconBus for Chip {
         if self.in_reset {
             return;
         }
-        // THW holds the header word as it was when the window opened.
-        self.announce_opened_windows();
+        // THW holds the header word as it was when the window opened; TEND is written
+        // before the host's word.
+        self.apply_quiet_events();
         let mask = self.cfg.variant.ram_address_mask();
         if let Some(word) = self.ram.get_mut(usize::from(address & mask)) {
             *word = value;

@@ -8,9 +8,6 @@ use sercon_regs::{Register, Variant};
 use crate::register_file::RegisterFile;
 
 /// The bit `n` of `word`.
-/// 410B §4.1 4H.12 INT_RWAIT.
-const RWAIT_BIT: u8 = 12;
-
 const fn bit(word: u16, n: u8) -> bool {
     word & (1 << n) != 0
 }
@@ -26,10 +23,12 @@ pub(crate) struct Settings {
     pub(crate) en_lo: [u16; 2],
     /// See [`Settings::en_lo`].
     pub(crate) en_hi: [u16; 2],
-    /// An enabled interrupt output carries 4H.12 INT_RWAIT (3H.1/3H.4 ENINT0/1 with bit 12
-    /// of 6H / 8H): only then can a receive window's opening be seen at the moment it
-    /// happens (spec-notes "Receive window opening").
-    pub(crate) rwait_out: bool,
+    /// The flags of 4H an enabled interrupt output carries (6H with 3H.1 ENINT0, 8H with
+    /// 3H.4 ENINT1): only these can be seen at the moment they rise; the telegram
+    /// processor's events that raise nothing else (a receive window's opening, a transmit
+    /// telegram's end, the end marker) are events of their own only when their flag is
+    /// here (spec-notes "Events nobody sees at once").
+    pub(crate) int_out_lo: u16,
     /// 816 §2.11.2 28H.3 EN0_INT_WDOG, 28H.4 EN1_INT_WDOG.
     pub(crate) en_wdog: [bool; 2],
     /// 816 §2.11.2 28H.7 EN0_INT_RSCEND, 28H.8 EN1_INT_RSCEND.
@@ -97,8 +96,8 @@ impl Settings {
             polint: [bit(c3, 2), bit(c3, 5)],
             en_lo: [r(Register::En0IntLo), r(Register::En1IntLo)],
             en_hi: [r(Register::En0IntHi), r(Register::En1IntHi)],
-            rwait_out: (bit(c3, 1) && bit(r(Register::En0IntLo), RWAIT_BIT))
-                || (bit(c3, 4) && bit(r(Register::En1IntLo), RWAIT_BIT)),
+            int_out_lo: (if bit(c3, 1) { r(Register::En0IntLo) } else { 0 })
+                | (if bit(c3, 4) { r(Register::En1IntLo) } else { 0 }),
             en_wdog: [bit(wd, 3), bit(wd, 4)],
             en_rscend: [bit(wd, 7), bit(wd, 8)],
             wdog_msten: bit(wd, 5),

@@ -32,6 +32,7 @@ use crate::chip::Chip;
 use crate::interrupts::INT_COMEND;
 use fifo::DmaFifos;
 pub(crate) use fifo::FifoState;
+use status::INT_TEND;
 use status::{INT_PROGERR, INT_RWAIT, ProgErr};
 
 use crate::serial_port::HeardFrame;
@@ -208,17 +209,18 @@ pub(crate) fn prog_error(chip: &mut Chip, e: ProgErr) {
 
 impl TelegramProcessor {
     /// The next tick at which the processor has something to do. A receive window's
-    /// opening is one only when `rwait_out` (an enabled interrupt output shows it at once);
-    /// otherwise it is applied with the processor's next event or bus access
-    /// ([`announce_opened`]).
-    pub(crate) fn next_tick(&self, rwait_out: bool) -> Option<u64> {
+    /// opening, a transmit telegram's end and the end marker are events only when an
+    /// enabled interrupt output carries their flag (`int_out`, `Settings::int_out_lo`);
+    /// otherwise they are applied with the processor's next event or a bus access
+    /// ([`apply_quiet_events`]).
+    pub(crate) fn next_tick(&self, int_out: u16) -> Option<u64> {
         let mut best: Option<u64> = None;
         let mut consider = |t: Option<u64>| {
             if let Some(t) = t {
                 best = Some(best.map_or(t, |b| b.min(t)));
             }
         };
-        consider(self.tx_end);
+        consider(self.tx_end.filter(|_| int_out & INT_TEND != 0));
         consider(self.rx_now.as_ref().map(|r| r.end_tick));
         consider(self.pending_block.map(|(t, _)| t));
         consider(self.mst.deadline);
@@ -231,13 +233,13 @@ impl TelegramProcessor {
                     announced,
                     ..
                 }) => {
-                    if announced || !rwait_out {
+                    if announced || int_out & INT_RWAIT == 0 {
                         close
                     } else {
                         Some(open)
                     }
                 }
-                Some(Cur::End { ready, .. }) => Some(ready),
+                Some(Cur::End { ready, .. }) => Some(ready).filter(|_| int_out & INT_COMEND != 0),
                 None => None,
             });
         }
@@ -246,8 +248,8 @@ impl TelegramProcessor {
 
     /// The next tick, given the start tick of the first queued frame (computed by the
     /// chip, which knows the clock).
-    pub(crate) fn next_tick_with(&self, first_frame: Option<u64>, rwait_out: bool) -> Option<u64> {
-        match (self.next_tick(rwait_out), first_frame) {
+    pub(crate) fn next_tick_with(&self, first_frame: Option<u64>, int_out: u16) -> Option<u64> {
+        match (self.next_tick(int_out), first_frame) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         }
@@ -286,7 +288,7 @@ pub(crate) fn first_frame_tick(chip: &Chip) -> Option<u64> {
 /// The next tick at which the telegram processor acts.
 pub(crate) fn next_tick(chip: &Chip) -> Option<u64> {
     chip.tp
-        .next_tick_with(first_frame_tick(chip), chip.engine.s.rwait_out)
+        .next_tick_with(first_frame_tick(chip), chip.engine.s.int_out_lo)
 }
 
 /// A communication cycle started at `tick` (timing control): a master sends the MST and
@@ -313,9 +315,10 @@ pub(crate) fn on_cycle_start(chip: &mut Chip, tick: u64) {
 
 /// Processes one event due at `tick` (the earliest the processor has).
 pub(crate) fn step(chip: &mut Chip, tick: u64) {
-    // A window that opened before this tick is opened first, as at its own tick.
+    // What happened before this tick and was no event of its own goes first, as at its
+    // own tick (those at this tick come in the order below).
     if let Some(before) = tick.checked_sub(1) {
-        announce_opened(chip, before);
+        let _ = apply_quiet_events(chip, before);
     }
     if chip.tp.tx_end == Some(tick) {
         transmit::end(chip, tick);
@@ -355,7 +358,7 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
         }) => {
             // The window opens at this tick (after the events above of the same tick, which
             // may have moved on to another header).
-            announce_opened(chip, tick);
+            let _ = announce_opened(chip, tick);
             if close == Some(tick) {
                 receive::missing(chip, at, hdr);
                 advance(chip, tick, hdr.pt);
@@ -369,15 +372,53 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
     }
 }
 
+/// Applies, in their order, the events due at or before `tick` that were no events of
+/// their own because no enabled interrupt output carries their flag
+/// (`Settings::int_out_lo`): the end of the telegram being sent, the opening of the
+/// current receive window, the end marker. Nothing can see them before the processor's
+/// next event or a bus access, which apply them first with the values they had at their
+/// ticks (spec-notes "Events nobody sees at once").
+/// Returns whether it applied any.
+pub(crate) fn apply_quiet_events(chip: &mut Chip, tick: u64) -> bool {
+    let mut applied = false;
+    if let Some(end) = chip.tp.tx_end
+        && end <= tick
+    {
+        transmit::end(chip, end);
+        applied = true;
+    }
+    applied |= announce_opened(chip, tick);
+    if let Some(Some(Cur::End { at, ready })) = chip.tp.block.as_ref().map(|b| b.cur)
+        && ready <= tick
+    {
+        end_marker(chip, ready, at);
+        applied = true;
+    }
+    applied
+}
+
+/// Whether an event [`apply_quiet_events`] applies may be pending (a transmit telegram
+/// being sent, a receive window not yet opened, the end marker current).
+pub(crate) fn has_quiet_events(chip: &Chip) -> bool {
+    chip.tp.tx_end.is_some()
+        || matches!(
+            chip.tp.block.as_ref().map(|b| b.cur),
+            Some(Some(
+                Cur::Rx {
+                    announced: false,
+                    ..
+                } | Cur::End { .. }
+            ))
+        )
+}
+
 /// Opens the receive window of the current header if it opened at or before `tick` and
 /// is not open yet: 410B §4.1 4H.12 INT_RWAIT "start waiting for receive telegram", 3H.10
-/// FLRWAIT, 23H/24H THWPT/THW (the telegram that is expected). Unless an enabled interrupt
-/// output shows INT_RWAIT (`Settings::rwait_out`), the opening is no event of its own:
-/// nothing can see it before the processor's next event or a bus access, which apply it
-/// first with the values it had at its tick (the header word is the processor's to write
-/// only in its own events; a host write applies it first too). Spec-notes "Receive window
-/// opening".
-pub(crate) fn announce_opened(chip: &mut Chip, tick: u64) {
+/// FLRWAIT, 23H/24H THWPT/THW (the telegram that is expected), the header word as it is
+/// then (the processor writes it only in its own events; a host write applies the
+/// opening first).
+/// Returns whether it did.
+fn announce_opened(chip: &mut Chip, tick: u64) -> bool {
     let Some(Some(Cur::Rx {
         at,
         hdr,
@@ -386,10 +427,10 @@ pub(crate) fn announce_opened(chip: &mut Chip, tick: u64) {
         announced: false,
     })) = chip.tp.block.as_ref().map(|b| b.cur)
     else {
-        return;
+        return false;
     };
     if open > tick {
-        return;
+        return false;
     }
     chip.tp.flrwait = true;
     chip.tp.thwpt = at;
@@ -405,6 +446,7 @@ pub(crate) fn announce_opened(chip: &mut Chip, tick: u64) {
             announced: true,
         }),
     );
+    true
 }
 
 fn set_cur(chip: &mut Chip, cur: Option<Cur>) {

@@ -1,0 +1,197 @@
+//! Telegram-processor events that only raise a flag and set status: the opening of a receive
+//! window (410B §4.1 4H.12 INT_RWAIT, 3H.10 FLRWAIT, 23H/24H THWPT/THW; §4.2.1 TCHK with
+//! 18H/19H JTRDEL1/2), the end of a transmit telegram (4H.11 INT_TEND, 3H.9 FLTMT) and the
+//! end marker (§4.2.3 TEND, 4H.4 INT_COMEND, 3H.6 COMACT) are events of their own only when
+//! an enabled interrupt output carries their flag; otherwise the chip applies them with its
+//! next telegram-processor event or bus access (spec-notes "Events nobody sees at once").
+//! Both ways must read the same at every instant.
+
+mod harness;
+
+use harness::*;
+use sercon_regs::ram::header::TxEnable;
+use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
+
+/// 410B §4.1 3H.1 ENINT0.
+const ENINT0: u16 = 1 << 1;
+/// 410B §4.1 4H.4 INT_COMEND, 4H.11 INT_TEND, 4H.12 INT_RWAIT.
+const QUIET_FLAGS: u16 = (1 << 4) | (1 << 11) | (1 << 12);
+/// 410B §4.1 3H.6 COMACT, 3H.7 COMBLK, 3H.9 FLTMT, 3H.10 FLRWAIT, 3H.11 FLREC.
+const FLAGS_3H: u16 = (1 << 6) | (1 << 7) | (1 << 9) | (1 << 10) | (1 << 11);
+
+/// Phase 4, one slave: MDT (8 words) at TRT 5, AT (8 words) at TRT 40, cycle 100 µs; both
+/// receive headers check their time (TCHK, JTRDEL1 = 2, JTRDEL2 = 3). With `int_out` both
+/// chips enable INT0 for INT_RWAIT, INT_TEND and INT_COMEND (those events are then events
+/// of their own).
+fn ring(int_out: bool) -> Ring {
+    let v = Variant::Sercon816;
+    let mut m = chip(v);
+    let mut s = chip(v);
+    // Master: COMPT0 → tx MDT (16) → rx AT (29) → end marker (43).
+    m.write_ram(0, 16);
+    tx_header(&mut m, 16, tx(255, TxEnable::Continuous, 5, 8, 29));
+    m.write_ram(20, control(8, true));
+    let mut r = rx(1, true, 40, 8, 43);
+    r.tchk = true;
+    rx_header(&mut m, 29, r);
+    m.write_ram_words(34, &[control(8, true), 0]);
+    end_marker(&mut m, 43);
+    // Slave: COMPT0 → rx MDT (16) → tx AT (31) → end marker (44).
+    s.write_ram(0, 16);
+    let mut r = rx(255, true, 5, 8, 31);
+    r.tchk = true;
+    rx_header(&mut s, 16, r);
+    s.write_ram_words(21, &[control(8, true), 0]);
+    tx_header(&mut s, 31, tx(1, TxEnable::Continuous, 40, 8, 44));
+    s.write_ram(35, control(8, true));
+    end_marker(&mut s, 44);
+    for c in [&mut m, &mut s] {
+        c.write(Register::Jtrdel1, 2);
+        c.write(Register::Jtrdel2, 3);
+        if int_out {
+            c.write(Register::En0IntLo, QUIET_FLAGS);
+        }
+    }
+    let int = if int_out { ENINT0 } else { 0 };
+    s.write(Register::Phas, 0xFF04);
+    s.write(Register::Ctrl3, ENTMT | int);
+    s.write(Register::Ctrl0C, MSTEN);
+    m.write(Register::Phas, 0x0404);
+    m.write(Register::Ctrl3, ENTMT | int);
+    m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
+    Ring::new(m, s)
+}
+
+/// What a host sees of those events: COMACT, COMBLK, FLTMT, FLRWAIT, FLREC (3H), the
+/// flags (4H), THWPT, THW, and the TEND word of the end marker at `end`.
+fn view(c: &mut sercon_model::Chip, end: u16) -> [u16; 5] {
+    [
+        c.read(Register::Ctrl3) & FLAGS_3H,
+        c.read(Register::IntFlagsLo),
+        c.read(Register::Thwpt),
+        c.read(Register::Thw),
+        c.read_ram(end + 1),
+    ]
+}
+
+/// Runs both rings to each instant of `at` and compares what the hosts read then.
+fn same_views(at: impl Iterator<Item = u64>) {
+    let (mut event, mut folded) = (ring(true), ring(false));
+    for t in at {
+        let t = sercos_wire::time::Instant::ZERO + sercos_wire::time::Duration::from_nanos(t);
+        event.run_to(t);
+        folded.run_to(t);
+        assert_eq!(
+            view(&mut event.master, 43),
+            view(&mut folded.master, 43),
+            "master at {t:?}"
+        );
+        assert_eq!(
+            view(&mut event.slave, 44),
+            view(&mut folded.slave, 44),
+            "slave at {t:?}"
+        );
+    }
+    assert_eq!(event.log, folded.log, "the same telegrams");
+}
+
+// 410B §4.1 3H, 4H, 23H/24H, §4.2.3 TEND: read every 250 ns (inside every window, before
+// and after each telegram starts and ends, around each end marker) the hosts see the same
+// whether those were events or not.
+#[test]
+fn quiet_events_read_the_same_at_every_instant() {
+    same_views((250..=320_000).step_by(250));
+}
+
+// The same read rarely: they are applied by the processor's next event (a frame start, a
+// window's close, the next block), not by a bus access.
+#[test]
+fn quiet_events_read_the_same_when_applied_by_the_next_event() {
+    same_views((37_000..=410_000).step_by(37_000));
+}
+
+// Without an interrupt output for INT_RWAIT the opening is no event. The slave's first
+// MST ends at 4.06 µs; its MDT window opens 3 µs later (TRT 5 − JTRDEL1 2) and closes at
+// 12.06 µs (TRT + JTRDEL2 3); the MDT reaches the slave after 8 µs. At 4.5 µs the slave
+// is next due at the opening with the interrupt output, at the close without.
+#[test]
+fn the_opening_is_an_event_only_with_an_interrupt_output_for_it() {
+    let at =
+        |ns: u64| sercos_wire::time::Instant::ZERO + sercos_wire::time::Duration::from_nanos(ns);
+    let mut next = Vec::new();
+    for int_out in [true, false] {
+        let mut r = ring(int_out);
+        r.run_to(at(4_500));
+        next.push(r.slave.next_internal_event_at());
+    }
+    let ps = |ps: u64| Some(sercos_wire::time::Instant::from_picos(ps));
+    assert_eq!(next, [ps(7_062_500), ps(12_062_500)]);
+}
+
+// A host that rewrites the expected header's first word after the window opened reads THW
+// as it was at the opening (410B §4.1 24H THW: the header of the telegram waited for). The
+// second cycle's MDT window opens at 107.06 µs, the MDT starts at 109.06 µs.
+#[test]
+fn a_header_written_after_the_opening_leaves_thw_as_it_was() {
+    let mut seen = Vec::new();
+    for int_out in [true, false] {
+        let mut r = ring(int_out);
+        r.run_to(us(104));
+        let before = r.slave.read_ram(16);
+        r.run_to(us(107) + sercos_wire::time::Duration::from_nanos(500));
+        r.slave.write_ram(16, before ^ 0x0001);
+        let thw = (r.slave.read(Register::Thwpt), r.slave.read(Register::Thw));
+        seen.push((before, thw));
+    }
+    assert_eq!(seen[0], seen[1]);
+    assert_eq!(
+        seen[1].1,
+        (16, seen[1].0),
+        "THWPT, THW: the slave's MDT header at the opening"
+    );
+}
+
+// The slave's AT starts at 44.06 µs (TRT 40 after the MST's end) and ends at 54.56 µs,
+// its end marker with it. At 50 µs the slave is next due at the AT's end with the interrupt
+// output; without it nothing is due until the next MST arrives (after 100 µs).
+#[test]
+fn a_transmit_end_and_the_end_marker_are_events_only_with_an_interrupt_output() {
+    let mut next = Vec::new();
+    for int_out in [true, false] {
+        let mut r = ring(int_out);
+        r.run_to(us(50));
+        next.push(r.slave.next_internal_event_at());
+    }
+    let end = sercos_wire::time::Instant::from_picos(54_562_500);
+    assert_eq!(next[0], Some(end));
+    assert!(next[1].is_none_or(|n| n > us(100)), "{:?}", next[1]);
+}
+
+// A host that writes the end marker's TEND word after the block ended (no event) keeps what
+// it wrote: the marker's TEND went in before the write (410B §4.2.3).
+#[test]
+fn a_host_write_after_a_quiet_end_marker_stays() {
+    let mut seen = Vec::new();
+    for int_out in [true, false] {
+        let mut r = ring(int_out);
+        r.run_to(us(60));
+        r.slave.write_ram(45, 0x1234);
+        r.run_to(us(61));
+        seen.push(r.slave.read_ram(45));
+    }
+    assert_eq!(seen, [0x1234, 0x1234]);
+}
+
+// A host that only reads the RAM sees the TEND of an end marker passed (410B §4.2.3 TEND:
+// "Time after end of MST at which the last telegram has ended", here the AT's end).
+#[test]
+fn a_ram_read_sees_the_tend_of_a_quiet_end_marker() {
+    let mut seen = Vec::new();
+    for int_out in [true, false] {
+        let mut r = ring(int_out);
+        r.run_to(us(60));
+        seen.push(r.slave.read_ram(45));
+    }
+    assert_eq!(seen[0], seen[1]);
+    assert_eq!(seen[1], 51, "TEND: the AT ends 50.5 µs after the MST's end");
+}
