@@ -547,6 +547,8 @@ impl Chip {
     /// reset, the rising edge releases it.
     pub fn set_rstn(&mut self, level: bool) {
         self.touched();
+        // An end marker passed wrote TEND into the RAM, which a reset keeps.
+        self.apply_quiet_events();
         crate::reset::set_rstn(self, level);
     }
 }

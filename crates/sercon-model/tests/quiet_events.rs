@@ -195,3 +195,18 @@ fn a_ram_read_sees_the_tend_of_a_quiet_end_marker() {
     assert_eq!(seen[0], seen[1]);
     assert_eq!(seen[1], 51, "TEND: the AT ends 50.5 µs after the MST's end");
 }
+
+// A reset keeps the RAM (410B §2 RSTN): the TEND of an end marker passed before it is
+// there afterwards.
+#[test]
+fn a_reset_keeps_the_tend_of_a_quiet_end_marker() {
+    let mut seen = Vec::new();
+    for int_out in [true, false] {
+        let mut r = ring(int_out);
+        r.run_to(us(60));
+        r.slave.set_rstn(false);
+        r.slave.set_rstn(true);
+        seen.push(r.slave.read_ram(45));
+    }
+    assert_eq!(seen, [51, 51]);
+}
