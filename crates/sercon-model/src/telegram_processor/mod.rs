@@ -168,6 +168,10 @@ pub(crate) struct TelegramProcessor {
     /// The next transmit header ahead of the current receive header, remembered
     /// (`output_bound`).
     pub(crate) tx_ahead: std::cell::Cell<Option<output_bound::TxAhead>>,
+    /// Of INT_TEND, INT_RWAIT and INT_COMEND, those an enabled interrupt output carries
+    /// (`Settings::int_out_lo`, kept here by [`sync_event_flags`]): their events are events
+    /// of their own; the others are applied quietly ([`apply_quiet_events`]).
+    pub(crate) event_flags: u16,
 }
 
 /// Most headers one block may walk: every header has at least two words.
@@ -213,43 +217,55 @@ impl TelegramProcessor {
     /// enabled interrupt output carries their flag (`int_out`, `Settings::int_out_lo`);
     /// otherwise they are applied with the processor's next event or a bus access
     /// ([`apply_quiet_events`]).
-    pub(crate) fn next_tick(&self, int_out: u16) -> Option<u64> {
-        let mut best: Option<u64> = None;
-        let mut consider = |t: Option<u64>| {
-            if let Some(t) = t {
-                best = Some(best.map_or(t, |b| b.min(t)));
-            }
+    pub(crate) fn next_tick(&self) -> Option<u64> {
+        let events = self.event_flags;
+        // The earliest of the candidates (`any`: there is one; a tick of u64::MAX counts).
+        let mut best = u64::MAX;
+        let mut any = false;
+        let mut consider = |t: u64| {
+            any = true;
+            best = best.min(t);
         };
-        consider(self.tx_end.filter(|_| int_out & INT_TEND != 0));
-        consider(self.rx_now.as_ref().map(|r| r.end_tick));
-        consider(self.pending_block.map(|(t, _)| t));
-        consider(self.mst.deadline);
+        if let Some(t) = self.tx_end
+            && events & INT_TEND != 0
+        {
+            consider(t);
+        }
+        if let Some(r) = &self.rx_now {
+            consider(r.end_tick);
+        }
+        if let Some((t, _)) = self.pending_block {
+            consider(t);
+        }
+        if let Some(t) = self.mst.deadline {
+            consider(t);
+        }
         if let Some(b) = &self.block {
-            consider(match b.cur {
-                Some(Cur::Tx { start, .. }) => Some(start),
+            match b.cur {
+                Some(Cur::Tx { start, .. }) => consider(start),
                 Some(Cur::Rx {
                     open,
                     close,
                     announced,
                     ..
                 }) => {
-                    if announced || int_out & INT_RWAIT == 0 {
-                        close
-                    } else {
-                        Some(open)
+                    if !announced && events & INT_RWAIT != 0 {
+                        consider(open);
+                    } else if let Some(c) = close {
+                        consider(c);
                     }
                 }
-                Some(Cur::End { ready, .. }) => Some(ready).filter(|_| int_out & INT_COMEND != 0),
-                None => None,
-            });
+                Some(Cur::End { ready, .. }) if events & INT_COMEND != 0 => consider(ready),
+                Some(Cur::End { .. }) | None => {}
+            }
         }
-        best
+        any.then_some(best)
     }
 
     /// The next tick, given the start tick of the first queued frame (computed by the
     /// chip, which knows the clock).
-    pub(crate) fn next_tick_with(&self, first_frame: Option<u64>, int_out: u16) -> Option<u64> {
-        match (self.next_tick(int_out), first_frame) {
+    pub(crate) fn next_tick_with(&self, first_frame: Option<u64>) -> Option<u64> {
+        match (self.next_tick(), first_frame) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         }
@@ -275,6 +291,11 @@ impl TelegramProcessor {
     }
 }
 
+/// Takes the interrupt outputs' flags from the settings (after any change of them).
+pub(crate) fn sync_event_flags(chip: &mut Chip) {
+    chip.tp.event_flags = chip.engine.s.int_out_lo & (INT_TEND | INT_RWAIT | INT_COMEND);
+}
+
 /// Whether a received frame is an MST (ADR 255 and one byte, 410B §4.2).
 pub(crate) fn frame_is_mst(bytes: &[u8]) -> bool {
     receive::is_mst(bytes)
@@ -287,8 +308,11 @@ pub(crate) fn first_frame_tick(chip: &Chip) -> Option<u64> {
 
 /// The next tick at which the telegram processor acts.
 pub(crate) fn next_tick(chip: &Chip) -> Option<u64> {
-    chip.tp
-        .next_tick_with(first_frame_tick(chip), chip.engine.s.int_out_lo)
+    debug_assert_eq!(
+        chip.tp.event_flags,
+        chip.engine.s.int_out_lo & (INT_TEND | INT_RWAIT | INT_COMEND)
+    );
+    chip.tp.next_tick_with(first_frame_tick(chip))
 }
 
 /// A communication cycle started at `tick` (timing control): a master sends the MST and
