@@ -303,11 +303,13 @@ impl SerialPort {
     /// Applies the IDLE / REACTN changes at or before `t` (pin levels only).
     pub(crate) fn apply_pin_levels(&mut self, t: Instant) {
         while let Some((_, change)) = self.events.pop_pin_until(t) {
-            match change {
-                Change::Idle(l) => self.idle = l,
-                Change::Reactn(l) => self.reactn = l,
-                // Only pin-level changes are in that queue.
-                Change::Fibbr(_) | Change::Rdist(_) => {}
+            // `if let`s, not a `match` (a jump table, whose indirect jump mispredicts as
+            // REACTN and IDLE changes alternate; docs/performance.md, session 5). Only
+            // pin-level changes are in that queue.
+            if let Change::Reactn(l) = change {
+                self.reactn = l;
+            } else if let Change::Idle(l) = change {
+                self.idle = l;
             }
         }
     }

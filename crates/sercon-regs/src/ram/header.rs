@@ -19,11 +19,19 @@ impl HeaderKind {
     /// Classifies a header word 0 by its marker bits 15-14; 10 is invalid.
     // ERRATA "telegram header marker bits": 00 receive, 01 transmit, 11 end marker.
     pub const fn classify(word0: u16) -> Result<HeaderKind, RamError> {
-        match word0 >> 14 {
-            0b00 => Ok(HeaderKind::Receive),
-            0b01 => Ok(HeaderKind::Transmit),
-            0b11 => Ok(HeaderKind::EndMarker),
-            _ => Err(RamError::InvalidMarker { word0 }),
+        // Two bit tests, not a `match` on both bits: that becomes a jump table, whose
+        // indirect jump mispredicts when a list alternates receive and transmit headers
+        // (docs/performance.md, session 5).
+        if word0 & 0x8000 == 0 {
+            if word0 & 0x4000 == 0 {
+                Ok(HeaderKind::Receive)
+            } else {
+                Ok(HeaderKind::Transmit)
+            }
+        } else if word0 & 0x4000 != 0 {
+            Ok(HeaderKind::EndMarker)
+        } else {
+            Err(RamError::InvalidMarker { word0 })
         }
     }
 
