@@ -893,16 +893,7 @@ impl Simulation {
                 cand(node.chip.next_output_bound());
                 cand(node.chip.next_line_output_except(std::iter::empty()));
             } else {
-                if lookahead == Lookahead::Events {
-                    cand(node.chip.next_event_at());
-                } else {
-                    cand(node.chip.next_deadline());
-                }
-                let out = node.chip.next_line_output_at();
-                let expected = node.expect.front().map(|e| e.0);
-                if exact || out != expected {
-                    cand(out);
-                }
+                cand(general_wake(node, lookahead, exact));
             }
             cand(node.host_deadline);
             cand(node.resume.filter(|r| *r > chip_now));
@@ -1065,6 +1056,26 @@ impl Simulation {
 }
 
 /// Node 0 is the master; everyone else a slave.
+/// The chip part of a node's next wake off the fast path (exact delivery, or woken for
+/// observable changes only): kept out of line, so that the fast path's reschedule, run
+/// for every node many times a cycle, stays small in the instruction cache.
+#[cold]
+#[inline(never)]
+fn general_wake(node: &Node, lookahead: Lookahead, exact: bool) -> Option<Instant> {
+    let own = if lookahead == Lookahead::Events {
+        node.chip.next_event_at()
+    } else {
+        node.chip.next_deadline()
+    };
+    let out = node.chip.next_line_output_at();
+    let expected = node.expect.front().map(|e| e.0);
+    let out = out.filter(|o| exact || Some(*o) != expected);
+    match (own, out) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
 fn origin_of(node: usize) -> Origin {
     if node == 0 {
         Origin::Master
