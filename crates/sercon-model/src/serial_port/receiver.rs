@@ -320,6 +320,9 @@ impl Receiver {
     }
 
     /// Reports the edges of an explicit bit segment.
+    // Out of line: a telegram with a hint (no fault on its way) takes neither; kept out
+    // of the delivery path's code (docs/performance.md, session 5).
+    #[inline(never)]
     fn scan_edges(&mut self, seg: &LineSegment, prev_level: bool, events: &mut LineEvents) {
         let LineSignal::Bits(bits) = &seg.signal else {
             return;
@@ -336,6 +339,9 @@ impl Receiver {
     }
 
     /// Decodes an explicit bit segment, continuing the previous one if it is contiguous.
+    // Out of line: a telegram with a hint (no fault on its way) takes neither; kept out
+    // of the delivery path's code (docs/performance.md, session 5).
+    #[inline(never)]
     fn decode<F: FnMut(HeardFrame)>(
         &mut self,
         seg: &LineSegment,
