@@ -278,7 +278,7 @@ impl Chip {
     /// The telegram processor's events up to now that were no events of their own (no
     /// interrupt output shows them: `telegram_processor::apply_quiet_events`) are applied
     /// before a bus access sees the state.
-    fn apply_quiet_events(&mut self) {
+    pub(crate) fn apply_quiet_events(&mut self) {
         if self.in_reset || !crate::telegram_processor::has_quiet_events(self) {
             return;
         }
@@ -536,6 +536,9 @@ impl Chip {
         if self.in_reset {
             return;
         }
+        // A cycle it starts may come at a tick the chip has reached: what was due by then
+        // goes first.
+        self.apply_quiet_events();
         let s = self.engine.s;
         let rising = level;
         if s.encycclk && rising != s.polcycclk && !s.is_sercos_slave() {
