@@ -14,6 +14,8 @@
 
 #![no_main]
 
+mod common;
+
 use libfuzzer_sys::fuzz_target;
 use sercon_model::pins::PinSet;
 use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
@@ -37,41 +39,22 @@ fuzz_target!(|data: &[u8]| {
     // The simulator's line shortcuts (implied filler, forwarded copies carried).
     chip.set_implied_filler(h0 & 8 != 0);
     chip.set_forward_output(h0 & 16 == 0);
-    let (image, mut body) = rest.split_at(rest.len().min(512));
-    let words: Vec<u16> = image
-        .chunks(2)
-        .map(|c| u16::from_le_bytes([c[0], c.get(1).copied().unwrap_or(0)]))
-        .collect();
-    if !words.is_empty() {
-        for a in 0..chip.config().variant.ram_words() {
-            let w = words[usize::from(a) % words.len()];
-            chip.write_ram(a, w);
-        }
-    }
+    let (image, body) = rest.split_at(rest.len().min(512));
     // A running chip: 1 µs unit, cycles of 50 µs, telegrams on, master or slave.
-    chip.write_register(0x0E, if h0 & 1 == 0 { 31 } else { 19 });
-    chip.write_register(0x0F, 50);
-    chip.write_register(0x03, 1 << 8);
-    chip.write_register(0x0C, if h0 & 4 != 0 { 0b11 | (1 << 10) } else { 1 });
+    common::start_running(&mut chip, h0, &common::image_words(image));
     let mut out = Vec::new();
     let mut events = Vec::new();
     let mut frames = Vec::new();
     let mut next_start = chip.now();
-    let mut records = 0;
-    while let [op, a, b, c, tail @ ..] = body {
-        body = tail;
-        records += 1;
-        if records > 256 {
-            break;
-        }
+    let mut records = common::Records::new(body);
+    while let Some([op, a, b, c]) = records.next_record() {
         match op % 4 {
-            0 => chip.write_register(*a, u16::from_be_bytes([*b, *c])),
+            0 => chip.write_register(a, u16::from_be_bytes([b, c])),
             1 => {
-                let n = usize::from(*c).min(body.len());
-                let (payload, tail) = body.split_at(n);
-                body = tail;
+                let payload = records.payload(usize::from(c));
+                let n = payload.len();
                 // Bit times from 10 ns to 2.56 µs; segments in order of their start.
-                let bit_time = Duration::from_nanos(10 * (u64::from(*b) + 1));
+                let bit_time = Duration::from_nanos(10 * (u64::from(b) + 1));
                 let start = next_start.max(chip.now());
                 let signal = match a % 4 {
                     0 => {
@@ -99,14 +82,13 @@ fuzz_target!(|data: &[u8]| {
                     level_before: a & 4 != 0,
                     hint,
                     distorted: a & 8 != 0,
-                    then_filler: *b & 1 == 1,
+                    then_filler: b & 1 == 1,
                 };
                 next_start = seg.end().unwrap_or(start);
                 chip.line_input(seg);
             }
             2 => {
-                let step =
-                    Duration::from_nanos(100 * (u64::from(u16::from_be_bytes([*b, *c])) + 1));
+                let step = Duration::from_nanos(100 * (u64::from(u16::from_be_bytes([b, c])) + 1));
                 let t = chip.now().saturating_add(step);
                 // The promise a simulation sleeps on: nothing released starts before it.
                 let promise = match (chip.next_output_bound(), chip.next_line_output_at()) {
@@ -131,10 +113,10 @@ fuzz_target!(|data: &[u8]| {
                 let _ = chip.next_event_at();
             }
             _ => {
-                let _ = chip.read_ram(u16::from_be_bytes([*a, *b]));
-                let _ = chip.read_register(*c);
+                let _ = chip.read_ram(u16::from_be_bytes([a, b]));
+                let _ = chip.read_register(c);
                 let _ = chip.dma_read_receive();
-                chip.dma_write_transmit(u16::from(*a));
+                chip.dma_write_transmit(u16::from(a));
             }
         }
     }

@@ -14,6 +14,8 @@
 
 #![no_main]
 
+mod common;
+
 use libfuzzer_sys::fuzz_target;
 use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
 use sercon_model::{Chip, ChipConfig};
@@ -67,50 +69,31 @@ fuzz_target!(|data: &[u8]| {
         ChipConfig::sercon410b()
     };
     let mut chips = [Chip::new(config.clone()), Chip::new(config)];
-    let (image, mut body) = rest.split_at(rest.len().min(512));
-    let words: Vec<u16> = image
-        .chunks(2)
-        .map(|c| u16::from_le_bytes([c[0], c.get(1).copied().unwrap_or(0)]))
-        .collect();
+    let (image, body) = rest.split_at(rest.len().min(512));
+    let words = common::image_words(image);
     for chip in &mut chips {
         chip.set_implied_filler(h0 & 8 != 0);
-        if !words.is_empty() {
-            for a in 0..chip.config().variant.ram_words() {
-                chip.write_ram(a, words[usize::from(a) % words.len()]);
-            }
-        }
-        // A running chip: 1 µs unit, cycles of 50 µs, telegrams on, master or slave.
-        chip.write_register(0x0E, if h0 & 1 == 0 { 31 } else { 19 });
-        chip.write_register(0x0F, 50);
-        chip.write_register(0x03, 1 << 8);
-        chip.write_register(0x0C, if h0 & 4 != 0 { 0b11 | (1 << 10) } else { 1 });
+        common::start_running(chip, h0, &words);
     }
     keep_events(&mut chips[0]);
     let mut next_start = chips[1].now();
     let mut outs = [Vec::new(), Vec::new()];
-    let mut records = 0;
-    while let [op, a, b, c, tail @ ..] = body {
-        body = tail;
-        records += 1;
-        if records > 256 {
-            break;
-        }
+    let mut records = common::Records::new(body);
+    while let Some([op, a, b, c]) = records.next_record() {
         match op % 4 {
             0 => {
                 for chip in &mut chips {
-                    chip.write_register(*a, u16::from_be_bytes([*b, *c]));
+                    chip.write_register(a, u16::from_be_bytes([b, c]));
                 }
                 keep_events(&mut chips[0]);
             }
             1 => {
-                let n = usize::from(*c).min(body.len()).min(40);
-                let (payload, tail) = body.split_at(n);
-                body = tail;
+                let payload = records.payload(usize::from(c).min(40));
                 // 16 or 4 Mbit/s (the chips' own rates) or another.
                 let bit_time = Duration::from_picos(match b % 3 {
                     0 => 62_500,
                     1 => 250_000,
-                    _ => 1_000 * (u64::from(*b) + 1),
+                    _ => 1_000 * (u64::from(b) + 1),
                 });
                 let start = next_start.max(chips[1].now()).max(chips[0].now());
                 let (signal, hint) = match a % 4 {
@@ -139,7 +122,7 @@ fuzz_target!(|data: &[u8]| {
                     level_before: false,
                     hint,
                     distorted: a & 8 != 0,
-                    then_filler: *b & 1 == 1,
+                    then_filler: b & 1 == 1,
                 };
                 next_start = seg.end().unwrap_or(start);
                 for chip in &mut chips {
@@ -147,8 +130,7 @@ fuzz_target!(|data: &[u8]| {
                 }
             }
             2 => {
-                let step =
-                    Duration::from_nanos(100 * (u64::from(u16::from_be_bytes([*b, *c])) + 1));
+                let step = Duration::from_nanos(100 * (u64::from(u16::from_be_bytes([b, c])) + 1));
                 let t = chips[1].now().saturating_add(step);
                 for (chip, out) in chips.iter_mut().zip(&mut outs) {
                     chip.advance_to(t);

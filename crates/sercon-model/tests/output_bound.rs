@@ -14,12 +14,11 @@ mod common;
 
 use pair_setup::{Shape, any_shape, chips};
 use proptest::prelude::*;
-use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
+use sercon_model::serial_port::LineSignal;
 use sercon_model::{Chip, ChipConfig};
 use sercon_regs::ram::container::ContainerControl;
 use sercon_regs::ram::header::{EndMarker, RxHeader, TxEnable, TxHeader};
 use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
-use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity};
 use sercos_wire::time::{Duration, Instant};
 
 /// 410B §4.1 03H bit 1 ENINT0: INT0 enabled.
@@ -178,26 +177,6 @@ fn control(len: u16) -> u16 {
     ContainerControl::new(len, false, 0, false, true).map_or(0, |c| c.to_word())
 }
 
-/// A telegram as the line carries it, with its hint, from `start` at 16 Mbit/s.
-fn frame(start: Instant, bytes: &[u8]) -> LineSegment {
-    let mut enc = Encoder::new(LineConfig::new(Coding::Nrzi, Polarity::LightOnLow));
-    let mut bits = BitVec::new();
-    enc.encode(bytes, &mut bits).expect("encodable");
-    LineSegment {
-        start,
-        bit_time: Duration::from_picos(62_500),
-        signal: LineSignal::Bits(Shared::new(bits)),
-        level_before: false,
-        hint: Some(FrameHint {
-            telegram: Shared::from(bytes),
-            offset: 0,
-            twin: None,
-        }),
-        distorted: false,
-        then_filler: false,
-    }
-}
-
 /// A master whose list is COMPT0 → MDT (TRT 2) → AT 1 (TRT 20, its data container laid over
 /// the header at 37) → AT 2 (TRT 60) → the header at 37 (a transmit header, TRT 120, EN = 0)
 /// → end marker; and that header.
@@ -282,11 +261,17 @@ fn received_data_that_enable_a_header_ahead_move_the_bound() {
         if let Some(t0) = mst_at {
             // The ATs a µs before they start: 15 and 35 µs after the MST.
             if fed == 0 && now + Duration::from_micros(1) >= t0 + Duration::from_micros(15) {
-                m.line_input(frame(t0 + Duration::from_micros(15), &at1_bytes));
+                m.line_input(common::hinted_frame(
+                    t0 + Duration::from_micros(15),
+                    &at1_bytes,
+                ));
                 fed = 1;
             }
             if fed == 1 && now + Duration::from_micros(1) >= t0 + Duration::from_micros(35) {
-                m.line_input(frame(t0 + Duration::from_micros(35), &[2, 0xAA, 0x55]));
+                m.line_input(common::hinted_frame(
+                    t0 + Duration::from_micros(35),
+                    &[2, 0xAA, 0x55],
+                ));
                 fed = 2;
             }
         }
@@ -371,7 +356,6 @@ proptest! {
         let mut frames = frames;
         frames.sort_by_key(|f| f.0);
         // 816 §2.3.1: 16 Mbit/s, 62.5 ns per bit.
-        let bit_time = Duration::from_picos(62_500);
         let mut buf = Vec::new();
         let mut next = frames.into_iter().peekable();
         for t in 1..=400u64 {
@@ -379,20 +363,9 @@ proptest! {
             // Frames are handed over a µs ahead of their start (as a ring delivers them).
             while let Some((start, bytes)) = next.next_if(|f| f.0 <= t) {
                 let start = Instant::ZERO + Duration::from_micros(start + 1);
-                let mut enc = Encoder::new(LineConfig::new(Coding::Nrzi, Polarity::LightOnLow));
-                let mut bits = BitVec::new();
-                if enc.encode(&bytes, &mut bits).is_err() {
-                    continue;
+                if let Some(seg) = common::try_hinted_frame(start, &bytes) {
+                    chip.line_input(seg);
                 }
-                chip.line_input(LineSegment {
-                    start,
-                    bit_time,
-                    signal: LineSignal::Bits(Shared::new(bits)),
-                    level_before: false,
-                    hint: Some(FrameHint { telegram: Shared::from(&bytes[..]), offset: 0, twin: None }),
-                    distorted: false,
-                    then_filler: false,
-                });
             }
             let p = promise(&chip);
             chip.advance_to(now);

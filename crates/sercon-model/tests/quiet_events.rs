@@ -6,13 +6,12 @@
 //! next telegram-processor event or bus access (spec-notes "Events nobody sees at once").
 //! Both ways must read the same at every instant.
 
+mod common;
 mod harness;
 
 use harness::*;
-use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
 use sercon_regs::ram::header::TxEnable;
 use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
-use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity};
 
 /// 410B §4.1 3H.1 ENINT0.
 const ENINT0: u16 = 1 << 1;
@@ -234,26 +233,6 @@ fn quiet_events_applied_by_the_processor_alone_read_the_same() {
     assert_eq!(event.log, folded.log, "the same telegrams");
 }
 
-/// A hinted telegram of `bytes` starting at `start` (16 Mbit/s, from a dark line).
-fn telegram(start: sercos_wire::time::Instant, bytes: &[u8]) -> LineSegment {
-    let mut enc = Encoder::new(LineConfig::new(Coding::Nrzi, Polarity::LightOnLow));
-    let mut bits = BitVec::new();
-    enc.encode(bytes, &mut bits).expect("encodable");
-    LineSegment {
-        start,
-        bit_time: sercos_wire::time::Duration::from_picos(62_500),
-        signal: LineSignal::Bits(Shared::new(bits)),
-        level_before: false,
-        hint: Some(FrameHint {
-            telegram: Shared::from(bytes),
-            offset: 0,
-            twin: None,
-        }),
-        distorted: false,
-        then_filler: false,
-    }
-}
-
 // Found by fuzz target `quiet_events`: the chip reached the opening's tick in one advance
 // (with the interrupt output it opened the window then); a frame delivered afterwards that
 // starts at that very tick comes after the opening, so INT_RWAIT, THWPT and THW read the
@@ -263,13 +242,13 @@ fn a_frame_delivered_at_a_tick_already_reached_comes_after_the_opening() {
     let mut seen = Vec::new();
     for int_out in [true, false] {
         let mut s = ring(int_out).slave;
-        s.line_input(telegram(us(1), &[255, 4]));
+        s.line_input(common::hinted_frame(us(1), &[255, 4]));
         // The MST ends at 4.06 µs; the MDT window opens at 7.0625 µs.
         let open = sercos_wire::time::Instant::from_picos(7_062_500);
         s.advance_to(open);
         let mut mdt = vec![255u8];
         mdt.extend(std::iter::repeat_n(0x5A, 16));
-        s.line_input(telegram(open, &mdt));
+        s.line_input(common::hinted_frame(open, &mdt));
         s.advance_to(us(30));
         seen.push(view(&mut s, 44));
     }

@@ -9,9 +9,7 @@ mod common;
 
 use proptest::prelude::*;
 use sercon_model::Chip;
-use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
 use sercon_regs::{Register, SerconBus, SerconBusExt};
-use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity};
 use sercos_wire::time::{Duration, Instant};
 
 /// 410B §4.1 3H.1 ENINT0, 3H.8 ENTMT.
@@ -64,23 +62,9 @@ proptest! {
         event.write(Register::Ctrl3, ENTMT | ENINT0);
         let mut frames = frames;
         frames.sort_by_key(|f| f.0);
-        // 816 §2.3.1: 16 Mbit/s, 62.5 ns per bit.
-        let bit_time = Duration::from_picos(62_500);
         for (start, bytes) in frames {
-            let mut enc = Encoder::new(LineConfig::new(Coding::Nrzi, Polarity::LightOnLow));
-            let mut bits = BitVec::new();
-            if enc.encode(&bytes, &mut bits).is_err() {
-                continue;
-            }
-            let seg = LineSegment {
-                start: Instant::ZERO + Duration::from_micros(start),
-                bit_time,
-                signal: LineSignal::Bits(Shared::new(bits)),
-                level_before: false,
-                hint: Some(FrameHint { telegram: Shared::from(&bytes[..]), offset: 0, twin: None }),
-                distorted: false,
-                then_filler: false,
-            };
+            // 1 to 23 bytes: always a telegram the line layer carries.
+            let seg = common::hinted_frame(Instant::ZERO + Duration::from_micros(start), &bytes);
             event.line_input(seg.clone());
             folded.line_input(seg);
         }

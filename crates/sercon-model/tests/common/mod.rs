@@ -2,7 +2,9 @@
 #![allow(dead_code)]
 
 use sercon_model::pins::PinEvent;
+use sercon_model::serial_port::{FrameHint, LineSegment, LineSignal, Shared};
 use sercon_model::{Chip, ChipConfig};
+use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity};
 use sercos_wire::time::{Duration, Instant};
 
 /// 410B §4.1 0CH.5 ENCONCLK.
@@ -79,4 +81,30 @@ pub fn arbitrary_chip(ram: &[u16], fill: u16, master: bool, reg25: Option<u16>) 
         },
     );
     chip
+}
+
+/// A telegram as the line carries it, with its hint, from `start` at 16 Mbit/s (816 §2.3.1,
+/// 62.5 ns per bit) on a line dark before it.
+pub fn hinted_frame(start: Instant, bytes: &[u8]) -> LineSegment {
+    try_hinted_frame(start, bytes).expect("encodable")
+}
+
+/// [`hinted_frame`], `None` for bytes the line layer cannot carry (none, or too many).
+pub fn try_hinted_frame(start: Instant, bytes: &[u8]) -> Option<LineSegment> {
+    let mut enc = Encoder::new(LineConfig::new(Coding::Nrzi, Polarity::LightOnLow));
+    let mut bits = BitVec::new();
+    enc.encode(bytes, &mut bits).ok()?;
+    Some(LineSegment {
+        start,
+        bit_time: Duration::from_picos(62_500),
+        signal: LineSignal::Bits(Shared::new(bits)),
+        level_before: false,
+        hint: Some(FrameHint {
+            telegram: Shared::from(bytes),
+            offset: 0,
+            twin: None,
+        }),
+        distorted: false,
+        then_filler: false,
+    })
 }
