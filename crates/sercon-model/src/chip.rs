@@ -275,9 +275,10 @@ impl Chip {
         }
     }
 
-    /// The telegram processor's events up to now that were no events of their own (no
-    /// interrupt output shows them: `telegram_processor::apply_quiet_events`) are applied
-    /// before a bus access sees the state.
+    /// Applies the telegram processor's events up to now that were no events of their own
+    /// (no interrupt output shows them: `telegram_processor::apply_quiet_events`): before a
+    /// bus access sees or changes the state, a reset, and anything new at a tick the chip
+    /// has already reached (a line input starting by now, a CYC_CLK edge).
     pub(crate) fn apply_quiet_events(&mut self) {
         if self.in_reset || !crate::telegram_processor::has_quiet_events(self) {
             return;

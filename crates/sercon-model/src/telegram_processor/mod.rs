@@ -32,8 +32,7 @@ use crate::chip::Chip;
 use crate::interrupts::INT_COMEND;
 use fifo::DmaFifos;
 pub(crate) use fifo::FifoState;
-use status::INT_TEND;
-use status::{INT_PROGERR, INT_RWAIT, ProgErr};
+use status::{INT_PROGERR, INT_RWAIT, INT_TEND, ProgErr};
 
 use crate::serial_port::HeardFrame;
 /// A frame the receiver saw: the serial port's [`RxFrame`], handed to the processor as
@@ -214,9 +213,9 @@ pub(crate) fn prog_error(chip: &mut Chip, e: ProgErr) {
 impl TelegramProcessor {
     /// The next tick at which the processor has something to do. A receive window's
     /// opening, a transmit telegram's end and the end marker are events only when an
-    /// enabled interrupt output carries their flag (`int_out`, `Settings::int_out_lo`);
-    /// otherwise they are applied with the processor's next event or a bus access
-    /// ([`apply_quiet_events`]).
+    /// enabled interrupt output carries their flag (`event_flags`, from
+    /// `Settings::int_out_lo`); otherwise they are applied with the processor's next event or
+    /// a bus access ([`apply_quiet_events`]).
     pub(crate) fn next_tick(&self) -> Option<u64> {
         let events = self.event_flags;
         // The earliest of the candidates (`any`: there is one; a tick of u64::MAX counts).
