@@ -76,7 +76,7 @@ impl Chip {
             ),
             Instant::ZERO,
         );
-        let mut chip = Chip {
+        Chip {
             cfg,
             clock,
             now: Instant::ZERO,
@@ -95,9 +95,7 @@ impl Chip {
             tp_next: None,
             dma_trace: [(false, None); 2],
             out_bound: std::cell::Cell::new(None),
-        };
-        crate::telegram_processor::sync_event_flags(&mut chip);
-        chip
+        }
     }
 
     /// A chip at time 0 after checking the configuration.

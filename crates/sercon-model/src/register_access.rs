@@ -116,7 +116,6 @@ pub(crate) fn write(chip: &mut Chip, address: u8, value: u16) {
     };
     let e = &mut chip.engine;
     e.s = Settings::decode(&e.regs, chip.cfg.variant);
-    crate::telegram_processor::sync_event_flags(chip);
     apply_setting_changes(chip, &old, at);
 
     let e = &mut chip.engine;

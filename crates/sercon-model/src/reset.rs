@@ -19,7 +19,6 @@ pub(crate) fn reset_state(chip: &mut Chip, at: u64) {
     let queued = std::mem::take(&mut chip.tp.rx_queue);
     chip.tp = Default::default();
     chip.tp.rx_queue = queued;
-    crate::telegram_processor::sync_event_flags(chip);
     // The serial port keeps its line; it follows the reset values of 1H and 2H.
     chip.serial_registers_changed();
 }

@@ -167,10 +167,6 @@ pub(crate) struct TelegramProcessor {
     /// The next transmit header ahead of the current receive header, remembered
     /// (`output_bound`).
     pub(crate) tx_ahead: std::cell::Cell<Option<output_bound::TxAhead>>,
-    /// Of INT_TEND, INT_RWAIT and INT_COMEND, those an enabled interrupt output carries
-    /// (`Settings::int_out_lo`, kept here by [`sync_event_flags`]): their events are events
-    /// of their own; the others are applied quietly ([`apply_quiet_events`]).
-    pub(crate) event_flags: u16,
 }
 
 /// Most headers one block may walk: every header has at least two words.
@@ -213,11 +209,11 @@ pub(crate) fn prog_error(chip: &mut Chip, e: ProgErr) {
 impl TelegramProcessor {
     /// The next tick at which the processor has something to do. A receive window's
     /// opening, a transmit telegram's end and the end marker are events only when an
-    /// enabled interrupt output carries their flag (`event_flags`, from
-    /// `Settings::int_out_lo`); otherwise they are applied with the processor's next event or
-    /// a bus access ([`apply_quiet_events`]).
-    pub(crate) fn next_tick(&self) -> Option<u64> {
-        let events = self.event_flags;
+    /// enabled interrupt output carries their flag (`int_out`: `Settings::int_out_lo`);
+    /// otherwise they are applied with the processor's next event or a bus access
+    /// ([`apply_quiet_events`]).
+    pub(crate) fn next_tick(&self, int_out: u16) -> Option<u64> {
+        let events = int_out;
         // The earliest of the candidates (`any`: there is one; a tick of u64::MAX counts).
         let mut best = u64::MAX;
         let mut any = false;
@@ -263,8 +259,8 @@ impl TelegramProcessor {
 
     /// The next tick, given the start tick of the first queued frame (computed by the
     /// chip, which knows the clock).
-    pub(crate) fn next_tick_with(&self, first_frame: Option<u64>) -> Option<u64> {
-        match (self.next_tick(), first_frame) {
+    pub(crate) fn next_tick_with(&self, first_frame: Option<u64>, int_out: u16) -> Option<u64> {
+        match (self.next_tick(int_out), first_frame) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         }
@@ -290,11 +286,6 @@ impl TelegramProcessor {
     }
 }
 
-/// Takes the interrupt outputs' flags from the settings (after any change of them).
-pub(crate) fn sync_event_flags(chip: &mut Chip) {
-    chip.tp.event_flags = chip.engine.s.int_out_lo & (INT_TEND | INT_RWAIT | INT_COMEND);
-}
-
 /// Whether a received frame is an MST (ADR 255 and one byte, 410B §4.2).
 pub(crate) fn frame_is_mst(bytes: &[u8]) -> bool {
     receive::is_mst(bytes)
@@ -307,11 +298,8 @@ pub(crate) fn first_frame_tick(chip: &Chip) -> Option<u64> {
 
 /// The next tick at which the telegram processor acts.
 pub(crate) fn next_tick(chip: &Chip) -> Option<u64> {
-    debug_assert_eq!(
-        chip.tp.event_flags,
-        chip.engine.s.int_out_lo & (INT_TEND | INT_RWAIT | INT_COMEND)
-    );
-    chip.tp.next_tick_with(first_frame_tick(chip))
+    chip.tp
+        .next_tick_with(first_frame_tick(chip), chip.engine.s.int_out_lo)
 }
 
 /// A communication cycle started at `tick` (timing control): a master sends the MST and
