@@ -255,3 +255,41 @@ fn a_frame_delivered_at_a_tick_already_reached_comes_after_the_opening() {
     assert_eq!(seen[0], seen[1]);
     assert_ne!(seen[1][1] & (1 << 12), 0, "INT_RWAIT");
 }
+
+// A CYC_CLK edge at the instant the chip's block ended (410B §4.1 0CH.8 ENCYCCLK: the edge
+// starts a cycle, and without MSTEN the block with it, §4.2): the end marker of that tick
+// came first, whether it was an event or not, so the new block finds the old one ended
+// (no overlap in 17H PROGERR_FL).
+#[test]
+fn a_cyc_clk_edge_at_a_tick_already_reached_comes_after_the_end_marker() {
+    let mut seen = Vec::new();
+    let mut end = None;
+    for int_out in [true, false] {
+        let mut c = chip(Variant::Sercon816);
+        // COMPT0 → tx (TRT 5 µs, one word) → end marker.
+        c.write_ram(0, 16);
+        tx_header(&mut c, 16, tx(1, TxEnable::Continuous, 5, 1, 22));
+        c.write_ram_words(20, &[control(1, true), 0x1234]);
+        end_marker(&mut c, 22);
+        if int_out {
+            c.write(Register::En0IntLo, QUIET_FLAGS);
+        }
+        c.write(Register::Ctrl3, ENTMT | if int_out { ENINT0 } else { 0 });
+        // 0CH.8 ENCYCCLK, NCYC = 1 (bits 12-15): one cycle per rising edge.
+        c.write(Register::Ctrl0C, (1 << 8) | (1 << 12));
+        c.set_cyc_clk(true);
+        c.advance_to(us(6));
+        // The end marker's tick: the transmit telegram's end (an event with the output).
+        let end = *end.get_or_insert_with(|| {
+            c.next_internal_event_at()
+                .expect("the telegram's end on the chip with the output")
+        });
+        c.advance_to(end);
+        c.set_cyc_clk(false);
+        c.set_cyc_clk(true);
+        c.advance_to(us(60));
+        seen.push((end, view(&mut c, 22), c.read(Register::ProgerrFl)));
+    }
+    assert_eq!(seen[0], seen[1]);
+    assert_eq!(seen[1].2, 0, "no overlap");
+}
