@@ -128,6 +128,7 @@ impl Chip {
                     // Nothing due up to `t` but levels of untraced serial-port pins.
                     self.serial_apply_pin_levels(t);
                     self.now = t;
+                    self.apply_quiet_events(None);
                     return;
                 }
             }
@@ -222,6 +223,8 @@ impl Chip {
             debug_assert_eq!(core, self.compute_next_core());
             self.next_core = Some(core);
             self.tp_next = Some(next_ticks.1);
+            self.now = t;
+            self.apply_quiet_events(Some(limit));
         }
         self.now = t;
     }
@@ -274,14 +277,16 @@ impl Chip {
     }
 
     /// Applies the telegram processor's events up to now that were no events of their own
-    /// (no interrupt output shows them: `telegram_processor::apply_quiet_events`): before a
-    /// bus access sees or changes the state, a reset, and anything new at a tick the chip
-    /// has already reached (a line input starting by now, a CYC_CLK edge).
-    pub(crate) fn apply_quiet_events(&mut self) {
+    /// (no interrupt output shows them: `telegram_processor::apply_quiet_events`), at the end
+    /// of every advance: whatever comes next (a bus access, a reset, a line input or a
+    /// CYC_CLK edge at a tick the chip has reached) finds the state these events leave, as
+    /// when they are events.
+    /// `limit`: the last MCLK tick at or before now, when the caller has it.
+    fn apply_quiet_events(&mut self, limit: Option<u64>) {
         if self.in_reset || !crate::telegram_processor::has_quiet_events(self) {
             return;
         }
-        let tick = self.clock.tick_at_or_before(self.now);
+        let tick = limit.unwrap_or_else(|| self.clock.tick_at_or_before(self.now));
         if crate::telegram_processor::apply_quiet_events(self, tick) {
             // The processor's next tick stands (these were not in it), the output bound's
             // walks may not (the block may have ended).
@@ -535,9 +540,6 @@ impl Chip {
         if self.in_reset {
             return;
         }
-        // A cycle it starts may come at a tick the chip has reached: what was due by then
-        // goes first.
-        self.apply_quiet_events();
         let s = self.engine.s;
         let rising = level;
         if s.encycclk && rising != s.polcycclk && !s.is_sercos_slave() {
@@ -551,8 +553,6 @@ impl Chip {
     /// reset, the rising edge releases it.
     pub fn set_rstn(&mut self, level: bool) {
         self.touched();
-        // An end marker passed wrote TEND into the RAM, which a reset keeps.
-        self.apply_quiet_events();
         crate::reset::set_rstn(self, level);
     }
 }
@@ -560,19 +560,15 @@ impl Chip {
 impl SerconBus for Chip {
     fn read_register(&mut self, address: u8) -> u16 {
         self.touched();
-        self.apply_quiet_events();
         crate::register_access::read(self, address)
     }
 
     fn write_register(&mut self, address: u8, value: u16) {
         self.touched();
-        self.apply_quiet_events();
         crate::register_access::write(self, address, value);
     }
 
     fn read_ram(&mut self, address: u16) -> u16 {
-        // TEND of an end marker passed.
-        self.apply_quiet_events();
         // 410B §2: A10-1 select the RAM word (816 §2.5: A11-1); higher bits are not decoded.
         let mask = self.cfg.variant.ram_address_mask();
         self.ram
@@ -585,9 +581,6 @@ impl SerconBus for Chip {
         if self.in_reset {
             return;
         }
-        // THW holds the header word as it was when the window opened; TEND is written
-        // before the host's word.
-        self.apply_quiet_events();
         let mask = self.cfg.variant.ram_address_mask();
         if let Some(word) = self.ram.get_mut(usize::from(address & mask)) {
             *word = value;

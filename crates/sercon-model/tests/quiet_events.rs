@@ -63,6 +63,12 @@ fn ring(int_out: bool) -> Ring {
     Ring::new(m, s)
 }
 
+/// `f` on the ring with the interrupt output (the events are events) and on the one without
+/// (they are applied quietly), in that order.
+fn on_both<T>(mut f: impl FnMut(Ring) -> T) -> [T; 2] {
+    [f(ring(true)), f(ring(false))]
+}
+
 /// What a host sees of those events: COMACT, COMBLK, FLTMT, FLRWAIT, FLREC (3H), the
 /// flags (4H), THWPT, THW, and the TEND word of the end marker at `end`.
 fn view(c: &mut sercon_model::Chip, end: u16) -> [u16; 5] {
@@ -119,12 +125,10 @@ fn quiet_events_read_the_same_when_applied_by_the_next_event() {
 fn the_opening_is_an_event_only_with_an_interrupt_output_for_it() {
     let at =
         |ns: u64| sercos_wire::time::Instant::ZERO + sercos_wire::time::Duration::from_nanos(ns);
-    let mut next = Vec::new();
-    for int_out in [true, false] {
-        let mut r = ring(int_out);
+    let next = on_both(|mut r| {
         r.run_to(at(4_500));
-        next.push(r.slave.next_internal_event_at());
-    }
+        r.slave.next_internal_event_at()
+    });
     let ps = |ps: u64| Some(sercos_wire::time::Instant::from_picos(ps));
     assert_eq!(next, [ps(7_062_500), ps(12_062_500)]);
 }
@@ -134,16 +138,14 @@ fn the_opening_is_an_event_only_with_an_interrupt_output_for_it() {
 // second cycle's MDT window opens at 107.06 µs, the MDT starts at 109.06 µs.
 #[test]
 fn a_header_written_after_the_opening_leaves_thw_as_it_was() {
-    let mut seen = Vec::new();
-    for int_out in [true, false] {
-        let mut r = ring(int_out);
+    let seen = on_both(|mut r| {
         r.run_to(us(104));
         let before = r.slave.read_ram(16);
         r.run_to(us(107) + sercos_wire::time::Duration::from_nanos(500));
         r.slave.write_ram(16, before ^ 0x0001);
         let thw = (r.slave.read(Register::Thwpt), r.slave.read(Register::Thw));
-        seen.push((before, thw));
-    }
+        (before, thw)
+    });
     assert_eq!(seen[0], seen[1]);
     assert_eq!(
         seen[1].1,
@@ -157,12 +159,10 @@ fn a_header_written_after_the_opening_leaves_thw_as_it_was() {
 // output; without it nothing is due until the next MST arrives (after 100 µs).
 #[test]
 fn a_transmit_end_and_the_end_marker_are_events_only_with_an_interrupt_output() {
-    let mut next = Vec::new();
-    for int_out in [true, false] {
-        let mut r = ring(int_out);
+    let next = on_both(|mut r| {
         r.run_to(us(50));
-        next.push(r.slave.next_internal_event_at());
-    }
+        r.slave.next_internal_event_at()
+    });
     let end = sercos_wire::time::Instant::from_picos(54_562_500);
     assert_eq!(next[0], Some(end));
     assert!(next[1].is_none_or(|n| n > us(100)), "{:?}", next[1]);
@@ -172,14 +172,12 @@ fn a_transmit_end_and_the_end_marker_are_events_only_with_an_interrupt_output() 
 // it wrote: the marker's TEND went in before the write (410B §4.2.3).
 #[test]
 fn a_host_write_after_a_quiet_end_marker_stays() {
-    let mut seen = Vec::new();
-    for int_out in [true, false] {
-        let mut r = ring(int_out);
+    let seen = on_both(|mut r| {
         r.run_to(us(60));
         r.slave.write_ram(45, 0x1234);
         r.run_to(us(61));
-        seen.push(r.slave.read_ram(45));
-    }
+        r.slave.read_ram(45)
+    });
     assert_eq!(seen, [0x1234, 0x1234]);
 }
 
@@ -187,12 +185,10 @@ fn a_host_write_after_a_quiet_end_marker_stays() {
 // "Time after end of MST at which the last telegram has ended", here the AT's end).
 #[test]
 fn a_ram_read_sees_the_tend_of_a_quiet_end_marker() {
-    let mut seen = Vec::new();
-    for int_out in [true, false] {
-        let mut r = ring(int_out);
+    let seen = on_both(|mut r| {
         r.run_to(us(60));
-        seen.push(r.slave.read_ram(45));
-    }
+        r.slave.read_ram(45)
+    });
     assert_eq!(seen[0], seen[1]);
     assert_eq!(seen[1], 51, "TEND: the AT ends 50.5 µs after the MST's end");
 }
@@ -201,14 +197,12 @@ fn a_ram_read_sees_the_tend_of_a_quiet_end_marker() {
 // there afterwards.
 #[test]
 fn a_reset_keeps_the_tend_of_a_quiet_end_marker() {
-    let mut seen = Vec::new();
-    for int_out in [true, false] {
-        let mut r = ring(int_out);
+    let seen = on_both(|mut r| {
         r.run_to(us(60));
         r.slave.set_rstn(false);
         r.slave.set_rstn(true);
-        seen.push(r.slave.read_ram(45));
-    }
+        r.slave.read_ram(45)
+    });
     assert_eq!(seen, [51, 51]);
 }
 
@@ -239,9 +233,8 @@ fn quiet_events_applied_by_the_processor_alone_read_the_same() {
 // same (410B §4.1 4H.12, 23H/24H).
 #[test]
 fn a_frame_delivered_at_a_tick_already_reached_comes_after_the_opening() {
-    let mut seen = Vec::new();
-    for int_out in [true, false] {
-        let mut s = ring(int_out).slave;
+    let seen = on_both(|r| {
+        let mut s = r.slave;
         s.line_input(common::hinted_frame(us(1), &[255, 4]));
         // The MST ends at 4.06 µs; the MDT window opens at 7.0625 µs.
         let open = sercos_wire::time::Instant::from_picos(7_062_500);
@@ -250,8 +243,8 @@ fn a_frame_delivered_at_a_tick_already_reached_comes_after_the_opening() {
         mdt.extend(std::iter::repeat_n(0x5A, 16));
         s.line_input(common::hinted_frame(open, &mdt));
         s.advance_to(us(30));
-        seen.push(view(&mut s, 44));
-    }
+        view(&mut s, 44)
+    });
     assert_eq!(seen[0], seen[1]);
     assert_ne!(seen[1][1] & (1 << 12), 0, "INT_RWAIT");
 }

@@ -29,12 +29,6 @@ impl Chip {
         // processor (which can only make its next tick earlier) and changes for the serial
         // port (read from its queues, not cached).
         let now = self.now;
-        if seg.start <= now {
-            // Frames of this segment may start at a tick the chip has reached: what was due
-            // by then and no event of its own came first (the chip took those ticks in an
-            // earlier advance; `telegram_processor::apply_quiet_events`).
-            self.apply_quiet_events();
-        }
         // Whether nothing can be due at `now` after this input (then the advance to `now`
         // below would only return): the next instant is known, the segment starts after
         // `now` (how a conservative simulation hands segments over), so its status changes
