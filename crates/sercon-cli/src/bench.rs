@@ -50,16 +50,29 @@ fn best_of<T>(runs: Vec<T>, wall: impl Fn(&T) -> f64, rtf: impl Fn(&T) -> f64) -
     Some((best, median))
 }
 
-/// A one-line JSON object with `"runs"` and `"rtf_median"` added (when more than one run).
+/// A one-line JSON object with `"build"` ([`BUILD`]) added, and `"runs"` and
+/// `"rtf_median"` when there was more than one run.
 fn with_runs(json: String, runs: u32, median: f64) -> String {
-    if runs <= 1 {
+    let Some(body) = json.strip_suffix('}') else {
         return json;
+    };
+    let build = BUILD;
+    if runs <= 1 {
+        return format!("{body},\"build\":\"{build}\"}}");
     }
-    match json.strip_suffix('}') {
-        Some(body) => format!("{body},\"runs\":{runs},\"rtf_median\":{median:.3}}}"),
-        None => json,
-    }
+    format!("{body},\"build\":\"{build}\",\"runs\":{runs},\"rtf_median\":{median:.3}}}")
 }
+
+/// How this `sercon` was built, printed with every figure (`"build"` in JSON): `debug`
+/// (debug assertions on: not for measuring), `pgo` (`scripts/pgo-build.sh`, which sets
+/// `SERCON_PGO_BUILD`) or `release`.
+const BUILD: &str = if cfg!(debug_assertions) {
+    "debug"
+} else if option_env!("SERCON_PGO_BUILD").is_some() {
+    "pgo"
+} else {
+    "release"
+};
 
 /// The text suffix for more than one run.
 fn runs_text(runs: u32, median: f64) -> String {
@@ -105,6 +118,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
             "no scenario named {:?}",
             args.scenario.clone().unwrap_or_default()
         );
+    }
+    if !args.json {
+        println!("{BUILD} build");
     }
     for s in ring {
         let cycle_us = u64::from(s.ring.cycle_us).max(1);
@@ -216,11 +232,17 @@ mod tests {
     }
 
     #[test]
-    fn runs_are_added_to_the_json_only_for_more_than_one() {
-        assert_eq!(with_runs("{\"a\":1}".into(), 1, 2.0), "{\"a\":1}");
+    fn the_build_is_always_added_to_the_json_and_runs_only_for_more_than_one() {
+        let b = BUILD;
+        assert_eq!(
+            with_runs("{\"a\":1}".into(), 1, 2.0),
+            format!("{{\"a\":1,\"build\":\"{b}\"}}")
+        );
         assert_eq!(
             with_runs("{\"a\":1}".into(), 3, 2.0),
-            "{\"a\":1,\"runs\":3,\"rtf_median\":2.000}"
+            format!("{{\"a\":1,\"build\":\"{b}\",\"runs\":3,\"rtf_median\":2.000}}")
         );
+        // Tests run with debug assertions: such a build says so.
+        assert_eq!(cfg!(debug_assertions), b == "debug");
     }
 }

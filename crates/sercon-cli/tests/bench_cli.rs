@@ -27,6 +27,15 @@ fn one_json(args: &[&str]) -> serde_json::Value {
     serde_json::from_str(lines[0]).expect("one JSON object per line")
 }
 
+/// What `sercon bench` calls the build of the `sercon` under test.
+fn expected_build() -> &'static str {
+    if cfg!(debug_assertions) {
+        "debug"
+    } else {
+        "release"
+    }
+}
+
 #[test]
 fn one_run_prints_the_issue_fields() {
     let v = one_json(&ring_n8(&["--json"]));
@@ -40,6 +49,19 @@ fn one_run_prints_the_issue_fields() {
     assert!(v["rtf"].as_f64().is_some_and(|r| r > 0.0));
     // One run: nothing about runs.
     assert!(v.get("runs").is_none());
+    // The figures say what build made them (the tests' `sercon` is built with the tests'
+    // profile).
+    assert_eq!(v["build"], expected_build());
+}
+
+#[test]
+fn the_text_names_the_build_first() {
+    let out = sercon(&ring_n8(&[]));
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let first = format!("{} build", expected_build());
+    assert_eq!(text.lines().next(), Some(first.as_str()), "{text}");
+    assert!(text.contains("ring-n8"), "{text}");
 }
 
 #[test]

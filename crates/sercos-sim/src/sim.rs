@@ -1055,7 +1055,6 @@ impl Simulation {
     }
 }
 
-/// Node 0 is the master; everyone else a slave.
 /// The chip part of a node's next wake off the fast path (exact delivery, or woken for
 /// observable changes only): kept out of line, so that the fast path's reschedule, run
 /// for every node many times a cycle, stays small in the instruction cache.
@@ -1076,6 +1075,7 @@ fn general_wake(node: &Node, lookahead: Lookahead, exact: bool) -> Option<Instan
     }
 }
 
+/// Node 0 is the master; everyone else a slave.
 fn origin_of(node: usize) -> Origin {
     if node == 0 {
         Origin::Master
