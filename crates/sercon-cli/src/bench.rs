@@ -52,7 +52,7 @@ fn best_of<T>(runs: Vec<T>, wall: impl Fn(&T) -> f64, rtf: impl Fn(&T) -> f64) -
 
 /// A one-line JSON object with `"build"` ([`BUILD`]) added, and `"runs"` and
 /// `"rtf_median"` when there was more than one run.
-fn with_runs(json: String, runs: u32, median: f64) -> String {
+fn with_build_and_runs(json: String, runs: u32, median: f64) -> String {
     let Some(body) = json.strip_suffix('}') else {
         return json;
     };
@@ -133,7 +133,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             continue;
         };
         if args.json {
-            println!("{}", with_runs(r.to_json(), args.repeat, median));
+            println!("{}", with_build_and_runs(r.to_json(), args.repeat, median));
         } else {
             println!(
                 "{:<9} {:>3} slaves {:>2} Mbit/s {:>5} µs cycle: {:.3} s simulated in {:.3} s, {:.1}× real time, {:.1} µs wall per cycle{}",
@@ -186,7 +186,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             }
         };
         if args.json {
-            println!("{}", with_runs(r.to_json(), args.repeat, median));
+            println!("{}", with_build_and_runs(r.to_json(), args.repeat, median));
         } else {
             let rss = r
                 .peak_rss_mib
@@ -235,11 +235,11 @@ mod tests {
     fn the_build_is_always_added_to_the_json_and_runs_only_for_more_than_one() {
         let b = BUILD;
         assert_eq!(
-            with_runs("{\"a\":1}".into(), 1, 2.0),
+            with_build_and_runs("{\"a\":1}".into(), 1, 2.0),
             format!("{{\"a\":1,\"build\":\"{b}\"}}")
         );
         assert_eq!(
-            with_runs("{\"a\":1}".into(), 3, 2.0),
+            with_build_and_runs("{\"a\":1}".into(), 3, 2.0),
             format!("{{\"a\":1,\"build\":\"{b}\",\"runs\":3,\"rtf_median\":2.000}}")
         );
         // Tests run with debug assertions: such a build says so.
