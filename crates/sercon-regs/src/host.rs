@@ -37,4 +37,13 @@ pub trait HostProgram {
     /// Does the work for `why` at `now` through `bus`, and returns the next instant at which the
     /// program wants to be woken even without an interrupt (`None`: only by interrupts).
     fn wake(&mut self, bus: &mut dyn SerconBus, now: Instant, why: Wake) -> Option<Instant>;
+
+    /// Whether the program only acts at [`Wake::Start`] and [`Wake::PowerOn`]: it never
+    /// touches the bus when woken by an interrupt and never asks for a deadline. A
+    /// simulation whose hosts are all inert may run a chip ahead of the others between its
+    /// inputs (nothing reads it or changes its transmitter meanwhile). `false` unless a
+    /// program says otherwise.
+    fn inert(&self) -> bool {
+        false
+    }
 }

@@ -135,4 +135,9 @@ impl HostProgram for StaticImageHost {
         }
         None
     }
+
+    /// Writes its image at start and power-on only.
+    fn inert(&self) -> bool {
+        true
+    }
 }

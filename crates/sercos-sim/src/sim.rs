@@ -31,6 +31,8 @@ mod light_wake_tests;
 mod out_floors;
 mod plain_pass;
 #[cfg(test)]
+mod run_ahead_tests;
+#[cfg(test)]
 mod test_lcg;
 mod wake_queue;
 
@@ -68,6 +70,9 @@ pub struct SimStats {
     pub collisions: u64,
     /// Segments that reached a receiver whose chip had already passed their start.
     pub late: u64,
+    /// Times a slave's chip ran ahead to the end of a telegram of the master
+    /// ([`HostProgram::inert`] hosts only; the run is the same without).
+    pub run_aheads: u64,
 }
 
 /// One segment (fibre, or the bus) as the simulation sees it.
@@ -128,6 +133,9 @@ pub struct Simulation {
     /// Quiet wakes skip the touched list ([`Simulation::wake_node`]); off only in tests
     /// that compare both ways.
     light_wakes: bool,
+    /// A ring whose hosts are all inert ([`HostProgram::inert`]): a slave's chip may run
+    /// ahead to the end of the master's telegram it was just given ([`Simulation::run_ahead`]).
+    run_ahead_ok: bool,
 }
 
 /// How a node's next wake is found.
@@ -176,6 +184,9 @@ impl Simulation {
             check_fault(f, n, seg_delays.len())?;
         }
         let mut recorder = Recorder::new(cfg.traces.clone())?;
+        let run_ahead_ok = matches!(cfg.topology, Topology::Ring { .. })
+            && cfg.delivery == Delivery::Fast
+            && hosts.iter().all(|h| h.inert());
         let mut nodes = Vec::with_capacity(n);
         for (i, (nc, host)) in cfg.nodes.iter().zip(hosts).enumerate() {
             let mut chip =
@@ -296,6 +307,7 @@ impl Simulation {
             host_nesting: 0,
             held_error: None,
             light_wakes: true,
+            run_ahead_ok,
             plain_pass: None,
         };
         sim.start_hosts();
@@ -810,6 +822,14 @@ impl Simulation {
             self.stats.late += 1;
         }
         let start = node.clock.to_global(local.start);
+        // A telegram of the master to a slave (`Simulation::run_ahead`): where it ends.
+        let ahead_to = (self.run_ahead_ok && origin == 0 && j != 0)
+            .then(|| match local.signal {
+                LineSignal::Bits(_) => local.end(),
+                _ => None,
+            })
+            .flatten()
+            .map(|e| node.clock.to_global(e));
         node.chip.line_input(local);
         self.stats.deliveries += 1;
         // A segment that starts after the chip's time adds events from its start on only
@@ -833,6 +853,14 @@ impl Simulation {
                 );
                 return;
             }
+            if let Some(end) = ahead_to
+                && self.lookahead == Lookahead::Events
+            {
+                self.run_ahead(j, end);
+            }
+            let Some(node) = self.nodes.get(j) else {
+                return;
+            };
             if !node.chip.line_output_due() {
                 // Serving it would find nothing to do but its next wake (no host due, no
                 // output, nothing traced): only that is set, once the event's nodes are
@@ -849,6 +877,48 @@ impl Simulation {
             }
         }
         self.touch(j);
+    }
+
+    /// Runs slave `j`'s chip ahead, right after the master's telegram ending at `end`
+    /// (simulation time) reached it, to just before the earliest of that end, the node's next
+    /// wake and the next fault event: its frames are processed while its state is at hand
+    /// (the telegram processor's work for the MST and the MDT then runs for one slave after
+    /// the other, not inside each slave's own wake; docs/performance.md, session 7).
+    ///
+    /// Nothing can reach the chip or read it before then, so the run is the one its next
+    /// wake would do. Every host is inert ([`HostProgram::inert`]): no bus access, no
+    /// deadline, no transmitter mode changed after the start. On a ring the master's next
+    /// segment starts after this one ends (an own telegram is never cut but by a reset or a
+    /// power-off; the output floors keep the order at every repeater), and a slave's own
+    /// telegrams and filler reach no slave on the fast path (`Simulation::propagate`); only a
+    /// fault could bring anything else, and none happens before the limit. The node's next
+    /// wake bounds it too: the chip's next output, and its next internal event when an
+    /// interrupt output or a pin can be seen (`Chip::next_output_bound`), come no earlier.
+    fn run_ahead(&mut self, j: usize, end: Instant) {
+        let wake = match self.next_wake(j) {
+            Some(w) => w,
+            None => self.nodes.get(j).and_then(|n| n.wake),
+        };
+        let mut limit = end;
+        if let Some(w) = wake {
+            limit = limit.min(w);
+        }
+        if let Some(f) = self.queue.peek_fault_time() {
+            limit = limit.min(f);
+        }
+        // Just before: an input or an event at the limit itself keeps its order within the
+        // instant (a segment's changes before the MCLK tick at the same instant).
+        let Some(to) = limit.as_picos().checked_sub(1).map(Instant::from_picos) else {
+            return;
+        };
+        let Some(node) = self.nodes.get_mut(j) else {
+            return;
+        };
+        let to = node.clock.to_local(to);
+        if to > node.chip.now() {
+            node.chip.advance_to(to);
+            self.stats.run_aheads += 1;
+        }
     }
 
     /// Sets node `j`'s wake to [`Simulation::next_wake`].

@@ -1,0 +1,195 @@
+//! Slaves run ahead ([`Simulation::run_ahead`]) against the same ring without: the same
+//! telegrams on every fibre, the same counters, the same registers and RAM in every chip,
+//! with every kind of fault, on the static rings whose hosts are inert.
+
+use sercon_regs::SerconBus;
+use sercos_wire::time::{Duration, Instant};
+
+use super::{SimStats, Simulation};
+use crate::fault::{Fault, FaultKind};
+use crate::host::{HostProgram, Wake};
+use crate::static_ring::StaticRing;
+use crate::trace::LogFormat;
+
+fn us(n: u64) -> Instant {
+    Instant::ZERO + Duration::from_micros(n)
+}
+
+/// RAM words read back from every chip (816 §2.5: 2048 words at most).
+const RAM_WORDS: u16 = 2048;
+
+/// A static ring's host that also reads 2H and 3H at every interrupt and every 37 µs: not
+/// inert, so nothing runs ahead.
+struct Polling(Box<dyn HostProgram>);
+
+impl HostProgram for Polling {
+    fn wake(&mut self, bus: &mut dyn SerconBus, now: Instant, why: Wake) -> Option<Instant> {
+        self.0.wake(bus, now, why);
+        if matches!(why, Wake::Interrupt { .. } | Wake::Deadline) {
+            bus.read_register(3);
+            bus.read_register(2);
+        }
+        Some(now.saturating_add(Duration::from_micros(37)))
+    }
+}
+
+/// What a run leaves: the text log of every fibre, the counters, and every chip's
+/// registers 0H–1FH and RAM.
+struct Outcome {
+    log: String,
+    stats: SimStats,
+    chips: Vec<u16>,
+}
+
+/// Runs `ring` to `until` with `faults`, slaves running ahead or not, every host wrapped in
+/// [`Polling`] if `polling`.
+fn run(ring: &StaticRing, faults: &[Fault], ahead: bool, polling: bool, until: Instant) -> Outcome {
+    let Ok((mut cfg, hosts, _)) = ring.build() else {
+        panic!("the ring fits");
+    };
+    cfg.traces.log = Some(LogFormat::Text);
+    cfg.faults = faults.to_vec();
+    let hosts: Vec<Box<dyn HostProgram>> = if polling {
+        hosts
+            .into_iter()
+            .map(|h| -> Box<dyn HostProgram> { Box::new(Polling(h)) })
+            .collect()
+    } else {
+        hosts
+    };
+    let Ok(mut sim) = Simulation::new(cfg, hosts) else {
+        panic!("the simulation builds");
+    };
+    sim.run_ahead_ok &= ahead;
+    assert!(sim.run_until(until).is_ok());
+    let stats = sim.stats();
+    let mut chips = Vec::new();
+    for j in 0..sim.node_count() {
+        if let Some(c) = sim.chip_mut(j) {
+            chips.extend((0u8..0x20).map(|a| c.read_register(a)));
+            chips.extend((0..RAM_WORDS).map(|a| c.read_ram(a)));
+        }
+    }
+    let Ok(out) = sim.finish() else {
+        panic!("the traces end");
+    };
+    Outcome {
+        log: String::from_utf8_lossy(&out.log).into_owned(),
+        stats,
+        chips,
+    }
+}
+
+/// Both ways give the same run; returns how often slaves ran ahead.
+fn same_run(ring: &StaticRing, faults: &[Fault], until: Instant, what: &str) -> u64 {
+    let plain = run(ring, faults, false, false, until);
+    let ahead = run(ring, faults, true, false, until);
+    assert!(plain.log.len() > 1000, "{what}: a log was written");
+    assert_eq!(plain.log, ahead.log, "{what}: telegram log");
+    assert_eq!(plain.stats.run_aheads, 0, "{what}");
+    assert_eq!(
+        SimStats {
+            run_aheads: 0,
+            ..ahead.stats
+        },
+        plain.stats,
+        "{what}: counters"
+    );
+    assert_eq!(plain.chips, ahead.chips, "{what}: registers and RAM");
+    ahead.stats.run_aheads
+}
+
+fn six_slaves() -> StaticRing {
+    let mut ring = StaticRing::new(6, 250);
+    ring.fibre_m = 30;
+    ring.mdt_words = 2;
+    ring.at_words = 2;
+    ring
+}
+
+#[test]
+fn an_intact_ring_runs_the_same_with_slaves_ahead() {
+    let n = same_run(&six_slaves(), &[], us(1600), "6 slaves");
+    // Two telegrams of the master (MST, MDT) per slave and cycle, from phase 4 on.
+    assert!(n >= 6 * 2 * 4, "the slaves ran ahead {n} times");
+    let mut long = StaticRing::new(20, 2000);
+    long.bit_rate = sercos_wire::time::BitRate::Mbit4;
+    let n = same_run(&long, &[], us(10_000), "20 slaves at 4 Mbit/s");
+    assert!(n >= 20 * 2 * 3, "the slaves ran ahead {n} times");
+}
+
+#[test]
+fn faults_give_the_same_run_with_slaves_ahead() {
+    let faults = [
+        (
+            "fibre break and repair",
+            vec![Fault {
+                at: us(520),
+                kind: FaultKind::FibreBreak {
+                    segment: 2,
+                    until: Some(us(910)),
+                },
+            }],
+        ),
+        (
+            "bit errors",
+            vec![Fault {
+                at: us(300),
+                kind: FaultKind::BitErrors {
+                    segment: 1,
+                    until: us(1400),
+                    rate: 2e-3,
+                },
+            }],
+        ),
+        (
+            "burst",
+            vec![Fault {
+                at: us(610),
+                kind: FaultKind::BitErrorBurst {
+                    segment: 0,
+                    bits: 40,
+                },
+            }],
+        ),
+        (
+            "power off and on",
+            vec![Fault {
+                at: us(600),
+                kind: FaultKind::PowerOff {
+                    node: 3,
+                    until: Some(us(850)),
+                },
+            }],
+        ),
+        (
+            "clock drift",
+            vec![Fault {
+                at: us(400),
+                kind: FaultKind::ClockDrift { node: 4, ppm: 80.0 },
+            }],
+        ),
+        (
+            "distortion",
+            vec![Fault {
+                at: us(700),
+                kind: FaultKind::Distortion {
+                    segment: 5,
+                    until: us(1100),
+                },
+            }],
+        ),
+    ];
+    for (what, f) in faults {
+        let n = same_run(&six_slaves(), &f, us(1600), what);
+        assert!(n > 0, "{what}: the slaves ran ahead");
+    }
+}
+
+#[test]
+fn nothing_runs_ahead_of_a_host_that_reads_its_chip() {
+    let ring = six_slaves();
+    let polled = run(&ring, &[], true, true, us(1600));
+    assert_eq!(polled.stats.run_aheads, 0);
+    assert!(polled.stats.deliveries > 0);
+}
