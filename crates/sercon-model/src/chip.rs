@@ -229,6 +229,22 @@ impl Chip {
         self.now = t;
     }
 
+    /// [`Chip::advance_to`] for an instant before [`Chip::next_output_bound`] (a simulation
+    /// running the chip ahead between its inputs): the telegram processor's part of that bound,
+    /// found before, still holds after the advance (the events up to it are those it was
+    /// found from; debug builds check it against a fresh walk), so it is kept instead of
+    /// being walked for again.
+    pub fn advance_before_output(&mut self, t: Instant) {
+        let memo = self.out_bound.get();
+        self.advance_to(t);
+        if let Some(bound) = memo
+            && bound.is_none_or(|tick| self.clock.instant(tick) > t)
+        {
+            debug_assert_eq!(bound, self.output_bound_tick(), "kept out_bound");
+            self.out_bound.set(memo);
+        }
+    }
+
     /// The instant of the next MCLK tick at which the engine or the telegram processor has
     /// something to do.
     fn compute_next_core(&self) -> Option<Instant> {

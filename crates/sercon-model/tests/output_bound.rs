@@ -90,6 +90,50 @@ fn the_bench_pair_keeps_its_promises_and_saves_wakes() {
     assert_eq!(pair[0].read_ram(29 + 7), 0x1000);
 }
 
+// 410B §4.2.1 TRT: an advance that stops before the chip's next possible own telegram
+// (`Chip::advance_before_output`, a simulation running a chip ahead between its inputs)
+// keeps the bound it had; that bound is the one the chip walks for afresh after a plain
+// advance to the same instant, and the chip is left as that advance leaves it.
+#[test]
+fn an_advance_before_the_output_keeps_the_walked_bound() {
+    let shape = Shape::BENCH;
+    let mut pair = chips(shape);
+    let delay = Duration::from_nanos(shape.delay_ns);
+    let step = Duration::from_picos((delay.as_picos() / 2).max(1));
+    let until = Instant::ZERO + Duration::from_micros(600);
+    let mut now = Instant::ZERO;
+    let mut buf = Vec::new();
+    let mut kept = 0;
+    while now < until {
+        now = (now + step).min(until);
+        for i in 0..2 {
+            let c = &mut pair[i];
+            if c.next_output_bound().is_some_and(|b| b > now) {
+                let mut plain = c.clone();
+                plain.advance_to(now);
+                c.advance_before_output(now);
+                assert_eq!(
+                    c.next_output_bound(),
+                    plain.next_output_bound(),
+                    "at {now:?}"
+                );
+                assert_eq!(c.next_internal_event_at(), plain.next_internal_event_at());
+                assert_eq!(c.read_register(3), plain.read_register(3));
+                kept += 1;
+            } else {
+                c.advance_to(now);
+            }
+            c.take_line_output(&mut buf);
+            for seg in buf.drain(..) {
+                pair[1 - i].line_input(seg.delayed(delay));
+            }
+        }
+    }
+    assert!(kept > 100, "{kept} advances before the output");
+    // The slave answered: the master received its AT (the bench's check).
+    assert_eq!(pair[0].read_ram(29 + 7), 0x1000);
+}
+
 // 410B §4.2.1 TRT "after end of MST", §4.1 0AH PHAS0 / 0CH COMBLK0: a slave that has an
 // MST to process is bound by the first transmit header of the block that MST starts, not by
 // the MST's end: no bound lies at the end of an MST (the bound before it did), and some are

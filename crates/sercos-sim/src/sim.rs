@@ -916,7 +916,7 @@ impl Simulation {
         };
         let to = node.clock.to_local(to);
         if to > node.chip.now() {
-            node.chip.advance_to(to);
+            node.chip.advance_before_output(to);
             self.stats.run_aheads += 1;
         }
     }
