@@ -34,6 +34,8 @@ mod plain_pass;
 mod run_ahead_tests;
 #[cfg(test)]
 mod test_lcg;
+#[cfg(test)]
+mod test_state;
 mod wake_queue;
 
 use out_floors::OutFloors;

@@ -6,6 +6,7 @@ use sercon_regs::SerconBus;
 use sercos_wire::time::{Duration, Instant};
 
 use super::Simulation;
+use super::test_state::chip_words;
 use crate::config::Delivery;
 use crate::fault::{Fault, FaultKind};
 use crate::host::{HostProgram, Wake};
@@ -91,12 +92,7 @@ fn run(
     sim.light_wakes = light;
     assert!(sim.run_until(until).is_ok());
     let stats = sim.stats();
-    let mut regs = Vec::new();
-    for j in 0..sim.node_count() {
-        if let Some(c) = sim.chip_mut(j) {
-            regs.extend((0u8..0x20).map(|a| c.read_register(a)));
-        }
-    }
+    let regs = chip_words(&mut sim, 0);
     let Ok(out) = sim.finish() else {
         panic!("the traces end");
     };

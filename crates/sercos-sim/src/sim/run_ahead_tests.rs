@@ -5,6 +5,7 @@
 use sercon_regs::SerconBus;
 use sercos_wire::time::{Duration, Instant};
 
+use super::test_state::chip_words;
 use super::{SimStats, Simulation};
 use crate::fault::{Fault, FaultKind};
 use crate::host::{HostProgram, Wake};
@@ -63,13 +64,7 @@ fn run(ring: &StaticRing, faults: &[Fault], ahead: bool, polling: bool, until: I
     sim.run_ahead_ok &= ahead;
     assert!(sim.run_until(until).is_ok());
     let stats = sim.stats();
-    let mut chips = Vec::new();
-    for j in 0..sim.node_count() {
-        if let Some(c) = sim.chip_mut(j) {
-            chips.extend((0u8..0x20).map(|a| c.read_register(a)));
-            chips.extend((0..RAM_WORDS).map(|a| c.read_ram(a)));
-        }
-    }
+    let chips = chip_words(&mut sim, RAM_WORDS);
     let Ok(out) = sim.finish() else {
         panic!("the traces end");
     };
