@@ -138,6 +138,9 @@ pub struct Simulation {
     /// A ring whose hosts are all inert ([`HostProgram::inert`]): a slave's chip may run
     /// ahead to the end of the master's telegram it was just given ([`Simulation::run_ahead`]).
     run_ahead_ok: bool,
+    /// The end of the current `run_until` (a chip never runs ahead past it: after the run it
+    /// is read at that instant).
+    run_to: Instant,
 }
 
 /// How a node's next wake is found.
@@ -310,6 +313,7 @@ impl Simulation {
             held_error: None,
             light_wakes: true,
             run_ahead_ok,
+            run_to: Instant::ZERO,
             plain_pass: None,
         };
         sim.start_hosts();
@@ -376,6 +380,7 @@ impl Simulation {
 
     /// Runs every event up to and including `t`, then brings every powered chip to `t`.
     pub fn run_until(&mut self, t: Instant) -> Result<(), SimError> {
+        self.run_to = t;
         while let Some(ev) = self.queue.pop_until(t) {
             self.process(ev)?;
         }
@@ -883,7 +888,8 @@ impl Simulation {
 
     /// Runs slave `j`'s chip ahead, right after the master's telegram ending at `end`
     /// (simulation time) reached it, to just before the earliest of that end, the node's next
-    /// wake and the next fault event: its frames are processed while its state is at hand
+    /// wake and the next fault event, and no further than the end of the current run (where
+    /// every chip is brought and may be read): its frames are processed while its state is at hand
     /// (the telegram processor's work for the MST and the MDT then runs for one slave after
     /// the other, not inside each slave's own wake; docs/performance.md, session 7).
     ///
@@ -901,7 +907,7 @@ impl Simulation {
             Some(w) => w,
             None => self.nodes.get(j).and_then(|n| n.wake),
         };
-        let mut limit = end;
+        let mut limit = end.min(self.run_to.saturating_add(Duration::from_picos(1)));
         if let Some(w) = wake {
             limit = limit.min(w);
         }

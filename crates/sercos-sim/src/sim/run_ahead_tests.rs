@@ -35,15 +35,19 @@ impl HostProgram for Polling {
 }
 
 /// What a run leaves: the text log of every fibre, the counters, and every chip's
-/// registers 0H–1FH and RAM.
+/// registers 0H–1FH and RAM at the end; every chip's time and registers after every step.
 struct Outcome {
     log: String,
     stats: SimStats,
     chips: Vec<u16>,
+    steps: Vec<(Vec<Instant>, Vec<u16>)>,
 }
 
-/// Runs `ring` to `until` with `faults`, slaves running ahead or not, every host wrapped in
-/// [`Polling`] if `polling`.
+/// Steps of `run_until` (a chip read after a run is at its end, run ahead or not).
+const STEP: Duration = Duration::from_micros(7);
+
+/// Runs `ring` to `until` in steps of [`STEP`] with `faults`, slaves running ahead or not,
+/// every host wrapped in [`Polling`] if `polling`.
 fn run(ring: &StaticRing, faults: &[Fault], ahead: bool, polling: bool, until: Instant) -> Outcome {
     let Ok((mut cfg, hosts, _)) = ring.build() else {
         panic!("the ring fits");
@@ -62,7 +66,16 @@ fn run(ring: &StaticRing, faults: &[Fault], ahead: bool, polling: bool, until: I
         panic!("the simulation builds");
     };
     sim.run_ahead_ok &= ahead;
-    assert!(sim.run_until(until).is_ok());
+    let mut steps = Vec::new();
+    let mut t = Instant::ZERO;
+    while t < until {
+        t = t.saturating_add(STEP).min(until);
+        assert!(sim.run_until(t).is_ok());
+        let nows = (0..sim.node_count())
+            .filter_map(|j| sim.chip_mut(j).map(|c| c.now()))
+            .collect();
+        steps.push((nows, chip_words(&mut sim, 0)));
+    }
     let stats = sim.stats();
     let chips = chip_words(&mut sim, RAM_WORDS);
     let Ok(out) = sim.finish() else {
@@ -72,6 +85,7 @@ fn run(ring: &StaticRing, faults: &[Fault], ahead: bool, polling: bool, until: I
         log: String::from_utf8_lossy(&out.log).into_owned(),
         stats,
         chips,
+        steps,
     }
 }
 
@@ -91,6 +105,10 @@ fn same_run(ring: &StaticRing, faults: &[Fault], until: Instant, what: &str) -> 
         "{what}: counters"
     );
     assert_eq!(plain.chips, ahead.chips, "{what}: registers and RAM");
+    assert_eq!(plain.steps.len(), ahead.steps.len());
+    for (k, (p, a)) in plain.steps.iter().zip(&ahead.steps).enumerate() {
+        assert_eq!(p, a, "{what}: chips after step {k}");
+    }
     ahead.stats.run_aheads
 }
 
