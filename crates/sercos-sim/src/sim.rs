@@ -829,8 +829,11 @@ impl Simulation {
             self.stats.late += 1;
         }
         let start = node.clock.to_global(local.start);
-        // A telegram of the master to a slave (`Simulation::run_ahead`): where it ends.
-        let ahead_to = (self.run_ahead_ok && origin == 0 && j != 0)
+        // A telegram of the master to a slave (`Simulation::run_ahead`): where it ends. Only
+        // a node on the simulation's clock runs ahead: with a clock error, local and global
+        // instants do not map one to one (a telegram's end, taken back, can lie after the
+        // next one's start).
+        let ahead_to = (self.run_ahead_ok && origin == 0 && j != 0 && node.clock.is_identity())
             .then(|| match local.signal {
                 LineSignal::Bits(_) => local.end(),
                 _ => None,
