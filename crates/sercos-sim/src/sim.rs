@@ -905,6 +905,8 @@ impl Simulation {
     /// fault could bring anything else, and none happens before the limit. The node's next
     /// wake bounds it too: the chip's next output, and its next internal event when an
     /// interrupt output or a pin can be seen (`Chip::next_output_bound`), come no earlier.
+    /// The caller gives only slaves on the simulation's clock (`deliver`): then an instant
+    /// before the limit is one before every later input in the chip's time too.
     fn run_ahead(&mut self, j: usize, end: Instant) {
         let wake = match self.next_wake(j) {
             Some(w) => w,
