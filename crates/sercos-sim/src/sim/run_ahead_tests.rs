@@ -246,8 +246,9 @@ fn any_fault(kind: u8, k: usize, at_us: u64, len_us: u64, nodes: usize) -> Fault
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
 
-    // Any small ring with up to three faults of any kind at any time: the same run with the
-    // slaves running ahead as without (telegram log, counters, every chip after every step).
+    // Any small ring, its ATs where the layout puts them or anywhere after the MST, with up
+    // to three faults of any kind at any time: the same run with the slaves running ahead
+    // as without (telegram log, counters, every chip after every step).
     #[test]
     fn any_ring_and_faults_run_the_same_with_slaves_ahead(
         slaves in 1usize..=6,
@@ -256,11 +257,14 @@ proptest::proptest! {
         fibre_m in 1u32..=200,
         faults in proptest::collection::vec(
             (0u8..6, 0usize..8, 200u64..1300, 1u64..400), 0..=3),
+        trts in proptest::option::of(proptest::collection::vec(5u16..150, 6)),
     ) {
         let mut ring = StaticRing::new(slaves, cycle_us);
         ring.mdt_words = words;
         ring.at_words = words;
         ring.fibre_m = fibre_m;
+        // Transmit times anywhere after the MST: ATs on top of the MDT and of each other.
+        ring.at_trt_override = trts;
         proptest::prop_assume!(ring.build().is_ok());
         let faults: Vec<Fault> = faults
             .into_iter()
