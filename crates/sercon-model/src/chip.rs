@@ -231,13 +231,21 @@ impl Chip {
 
     /// [`Chip::advance_to`] for an instant before [`Chip::next_output_bound`] (a simulation
     /// running the chip ahead between its inputs): the telegram processor's part of that bound,
-    /// found before, still holds after the advance (the events up to it are those it was
-    /// found from; debug builds check it against a fresh walk), so it is kept instead of
-    /// being walked for again.
+    /// found before, still holds after the advance, so it is kept instead of being walked for
+    /// again. It holds because the processor walks its headers in list order (410B §4.2.1
+    /// PT) and the walk that found the bound read what the processor reads on its way there,
+    /// unless the processor itself wrote those words meanwhile (receive data or a service
+    /// container laid over headers ahead: then the bound is found afresh) or ended the block
+    /// early with a programming error (17H PROGERR_FL: likewise). Debug builds check the
+    /// kept bound against a fresh walk.
     pub fn advance_before_output(&mut self, t: Instant) {
         let memo = self.out_bound.get();
+        let irregular = self.tp.irregular;
+        self.tp.walk_overwritten.set(false);
         self.advance_to(t);
         if let Some(bound) = memo
+            && !self.tp.walk_overwritten.get()
+            && self.tp.irregular == irregular
             && bound.is_none_or(|tick| self.clock.instant(tick) > t)
         {
             debug_assert_eq!(bound, self.output_bound_tick(), "kept out_bound");

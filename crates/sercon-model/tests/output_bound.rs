@@ -344,6 +344,82 @@ fn received_data_that_enable_a_header_ahead_move_the_bound() {
     );
 }
 
+// 410B §4.2.1/§4.2.2, the same programming error: an advance before the output
+// (`Chip::advance_before_output`) during which the first AT's data enable the header ahead
+// does not keep the bound found before: after every advance the chip's bound is the one a
+// plain advance leaves, and the third telegram is still sent at its bound.
+#[test]
+fn data_over_a_header_ahead_are_not_outlived_by_a_kept_bound() {
+    let v = Variant::Sercon816;
+    let (mut m, third) = master_with_a_header_ahead();
+    let enabled = TxHeader {
+        en: TxEnable::Continuous,
+        ..third
+    };
+    let mut at1_bytes = vec![1u8];
+    for w in enabled.to_words(v) {
+        at1_bytes.extend_from_slice(&w.to_le_bytes());
+    }
+    let mut buf = Vec::new();
+    let mut own = Vec::new();
+    let mut mst_at = None;
+    let mut fed = 0;
+    let mut kept = 0;
+    for t in 1..=120u64 {
+        let now = Instant::ZERO + Duration::from_micros(t);
+        if let Some(t0) = mst_at {
+            if fed == 0 && now + Duration::from_micros(1) >= t0 + Duration::from_micros(15) {
+                m.line_input(common::hinted_frame(
+                    t0 + Duration::from_micros(15),
+                    &at1_bytes,
+                ));
+                fed = 1;
+            }
+            if fed == 1 && now + Duration::from_micros(1) >= t0 + Duration::from_micros(35) {
+                m.line_input(common::hinted_frame(
+                    t0 + Duration::from_micros(35),
+                    &[2, 0xAA, 0x55],
+                ));
+                fed = 2;
+            }
+        }
+        let p = promise(&m);
+        if m.next_output_bound().is_some_and(|b| b > now) {
+            let mut plain = m.clone();
+            plain.advance_to(now);
+            m.advance_before_output(now);
+            assert_eq!(
+                m.next_output_bound(),
+                plain.next_output_bound(),
+                "at {now:?}"
+            );
+            kept += 1;
+        } else {
+            m.advance_to(now);
+        }
+        m.take_line_output(&mut buf);
+        for seg in buf.drain(..) {
+            assert!(
+                p.is_some_and(|p| seg.start >= p),
+                "a segment at {:?} before the promise {p:?}",
+                seg.start
+            );
+            if let LineSignal::Bits(_) = seg.signal {
+                mst_at.get_or_insert(seg.start);
+                own.push(seg.start);
+            }
+        }
+    }
+    assert_eq!(fed, 2);
+    assert!(kept > 10, "{kept} advances before the output");
+    assert!(own.len() >= 3, "{own:?}");
+    assert_eq!(
+        m.read_ram(37),
+        enabled.to_words(v)[0],
+        "AT 1 stored over it"
+    );
+}
+
 // 410B §4.2.1 EN: the host enables a transmit header ahead of the current receive header
 // (a RAM write through the bus): what the bound walked before must not survive it (found
 // by fuzz target bus_sequence: a host RAM write kept the remembered walk).
@@ -413,6 +489,53 @@ proptest! {
             }
             let p = promise(&chip);
             chip.advance_to(now);
+            chip.take_line_output(&mut buf);
+            for seg in buf.drain(..) {
+                prop_assert!(
+                    p.is_some_and(|p| seg.start >= p),
+                    "a segment at {:?} before the promise {:?}", seg.start, p
+                );
+            }
+        }
+    }
+
+    // The same with every advance that stops before the bound made by
+    // `Chip::advance_before_output`: it never panics (debug builds check every kept bound
+    // against a fresh walk), the chip ends as a plain advance leaves it, and no own telegram
+    // starts before the promise.
+    #[test]
+    fn arbitrary_ram_and_frames_keep_the_bound_kept_across_advances(
+        ram in proptest::collection::vec(any::<u16>(), 64),
+        fill in any::<u16>(),
+        master in any::<bool>(),
+        frames in proptest::collection::vec(
+            (0u64..300, proptest::collection::vec(any::<u8>(), 0..40)),
+            0..12,
+        ),
+    ) {
+        let mut chip = common::arbitrary_chip(&ram, fill, master, None);
+        let mut frames = frames;
+        frames.sort_by_key(|f| f.0);
+        let mut buf = Vec::new();
+        let mut next = frames.into_iter().peekable();
+        for t in 1..=400u64 {
+            let now = Instant::ZERO + Duration::from_micros(t);
+            while let Some((start, bytes)) = next.next_if(|f| f.0 <= t) {
+                let start = Instant::ZERO + Duration::from_micros(start + 1);
+                if let Some(seg) = common::try_hinted_frame(start, &bytes) {
+                    chip.line_input(seg);
+                }
+            }
+            let p = promise(&chip);
+            if chip.next_output_bound().is_some_and(|b| b > now) {
+                let mut plain = chip.clone();
+                plain.advance_to(now);
+                chip.advance_before_output(now);
+                prop_assert_eq!(chip.next_output_bound(), plain.next_output_bound());
+                prop_assert_eq!(chip.read_register(0x17), plain.read_register(0x17));
+            } else {
+                chip.advance_to(now);
+            }
             chip.take_line_output(&mut buf);
             for seg in buf.drain(..) {
                 prop_assert!(

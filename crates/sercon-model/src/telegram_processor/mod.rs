@@ -167,6 +167,13 @@ pub(crate) struct TelegramProcessor {
     /// The next transmit header ahead of the current receive header, remembered
     /// (`output_bound`).
     pub(crate) tx_ahead: std::cell::Cell<Option<output_bound::TxAhead>>,
+    /// The controller wrote RAM words a remembered walk ahead had read (`output_bound`:
+    /// receive data or a service container laid over headers ahead) since this was last
+    /// cleared (`Chip::advance_before_output`).
+    pub(crate) walk_overwritten: std::cell::Cell<bool>,
+    /// Programming errors and blocks ended early so far (wrapping): a kept output bound does
+    /// not outlive one (`Chip::advance_before_output`).
+    pub(crate) irregular: u32,
 }
 
 /// Most headers one block may walk: every header has at least two words.
@@ -202,6 +209,7 @@ pub(crate) fn set_flmdtadr(chip: &mut Chip, value: bool) {
 
 /// Records a programming error (410B §4.1 17H PROGERR_FL, 5H.14 INT_PROGERR).
 pub(crate) fn prog_error(chip: &mut Chip, e: ProgErr) {
+    chip.tp.irregular = chip.tp.irregular.wrapping_add(1);
     chip.tp.progerr |= e.bit();
     chip.engine.flags.hi |= INT_PROGERR;
 }
@@ -489,6 +497,7 @@ pub(crate) fn start_block(chip: &mut Chip, tick: u64, block: u8) {
 
 /// Ends the block in progress early: a receive telegram still expected counts as missing.
 pub(crate) fn abort_block(chip: &mut Chip, _tick: u64) {
+    chip.tp.irregular = chip.tp.irregular.wrapping_add(1);
     if let Some(b) = chip.tp.block.take()
         && let Some(Cur::Rx { at, hdr, .. }) = b.cur
     {

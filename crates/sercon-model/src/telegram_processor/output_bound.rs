@@ -173,6 +173,7 @@ pub(crate) fn ram_written(chip: &Chip, from: u32, len: usize) {
         let end = from.saturating_add(u32::try_from(len).unwrap_or(u32::MAX));
         if from < m.hi && end > m.lo {
             chip.tp.tx_ahead.set(None);
+            chip.tp.walk_overwritten.set(true);
         }
     }
 }
@@ -181,6 +182,7 @@ pub(crate) fn ram_written(chip: &Chip, from: u32, len: usize) {
 /// §4.2.4): a remembered walk is dropped.
 pub(crate) fn ram_rewritten(chip: &Chip) {
     chip.tp.tx_ahead.set(None);
+    chip.tp.walk_overwritten.set(true);
 }
 
 /// [`next_tx_in_list`] from the current receive header, remembered (a master walks its
