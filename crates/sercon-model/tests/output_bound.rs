@@ -279,77 +279,14 @@ fn master_with_a_header_ahead() -> (Chip, TxHeader) {
     (m, third)
 }
 
-// 410B §4.2.1/§4.2.2: a receive container laid over a transmit header two headers ahead (a
-// programming error the chip still runs): the first AT's data turn that header's EN from 0
-// to 2, so the master sends a third telegram after the second AT. What the bound walked
-// before the data arrived must not survive the controller's own write.
-#[test]
-fn received_data_that_enable_a_header_ahead_move_the_bound() {
-    let v = Variant::Sercon816;
-    let (mut m, third) = master_with_a_header_ahead();
-    // AT 1 carries the header at 37 with EN = 2 (words little-endian, 410B §4.2.2 POS).
-    let enabled = TxHeader {
-        en: TxEnable::Continuous,
-        ..third
-    };
-    let mut at1_bytes = vec![1u8];
-    for w in enabled.to_words(v) {
-        at1_bytes.extend_from_slice(&w.to_le_bytes());
-    }
-    let mut buf = Vec::new();
-    let mut own = Vec::new();
-    let mut mst_at = None;
-    let mut fed = 0;
-    for t in 1..=120u64 {
-        let now = Instant::ZERO + Duration::from_micros(t);
-        if let Some(t0) = mst_at {
-            // The ATs a µs before they start: 15 and 35 µs after the MST.
-            if fed == 0 && now + Duration::from_micros(1) >= t0 + Duration::from_micros(15) {
-                m.line_input(common::hinted_frame(
-                    t0 + Duration::from_micros(15),
-                    &at1_bytes,
-                ));
-                fed = 1;
-            }
-            if fed == 1 && now + Duration::from_micros(1) >= t0 + Duration::from_micros(35) {
-                m.line_input(common::hinted_frame(
-                    t0 + Duration::from_micros(35),
-                    &[2, 0xAA, 0x55],
-                ));
-                fed = 2;
-            }
-        }
-        let p = promise(&m);
-        m.advance_to(now);
-        m.take_line_output(&mut buf);
-        for seg in buf.drain(..) {
-            assert!(
-                p.is_some_and(|p| seg.start >= p),
-                "a segment at {:?} before the promise {p:?}",
-                seg.start
-            );
-            if let LineSignal::Bits(_) = seg.signal {
-                mst_at.get_or_insert(seg.start);
-                own.push(seg.start);
-            }
-        }
-    }
-    // MST, MDT, and the third telegram 60 µs after the MST's end.
-    assert_eq!(fed, 2);
-    assert!(own.len() >= 3, "{own:?}");
-    assert_eq!(
-        m.read_ram(37),
-        enabled.to_words(v)[0],
-        "AT 1 stored over it"
-    );
-}
-
-// 410B §4.2.1/§4.2.2, the same programming error: an advance before the output
-// (`Chip::advance_before_output`) during which the first AT's data enable the header ahead
-// does not keep the bound found before: after every advance the chip's bound is the one a
-// plain advance leaves, and the third telegram is still sent at its bound.
-#[test]
-fn data_over_a_header_ahead_are_not_outlived_by_a_kept_bound() {
+/// The master of [`master_with_a_header_ahead`] given its two ATs a µs before they start
+/// (15 and 35 µs after its MST), AT 1 carrying the header at 37 with EN = 2 (words
+/// little-endian, 410B §4.2.2 POS), advanced µs by µs to 120 µs, every segment checked
+/// against the promise asked before its advance. With `keep`, every advance that stops
+/// before the bound is `Chip::advance_before_output`, checked against a plain advance of a
+/// copy. Returns the master, the starts of its own telegrams, the advances kept and the
+/// header's first word as AT 1 carries it.
+fn header_ahead_run(keep: bool) -> (Chip, Vec<Instant>, usize, u16) {
     let v = Variant::Sercon816;
     let (mut m, third) = master_with_a_header_ahead();
     let enabled = TxHeader {
@@ -384,7 +321,7 @@ fn data_over_a_header_ahead_are_not_outlived_by_a_kept_bound() {
             }
         }
         let p = promise(&m);
-        if m.next_output_bound().is_some_and(|b| b > now) {
+        if keep && m.next_output_bound().is_some_and(|b| b > now) {
             let mut plain = m.clone();
             plain.advance_to(now);
             m.advance_before_output(now);
@@ -411,13 +348,32 @@ fn data_over_a_header_ahead_are_not_outlived_by_a_kept_bound() {
         }
     }
     assert_eq!(fed, 2);
+    let word0 = enabled.to_words(v)[0];
+    (m, own, kept, word0)
+}
+
+// 410B §4.2.1/§4.2.2: a receive container laid over a transmit header two headers ahead (a
+// programming error the chip still runs): the first AT's data turn that header's EN from 0
+// to 2, so the master sends a third telegram after the second AT. What the bound walked
+// before the data arrived must not survive the controller's own write.
+#[test]
+fn received_data_that_enable_a_header_ahead_move_the_bound() {
+    let (mut m, own, _, word0) = header_ahead_run(false);
+    // MST, MDT, and the third telegram 60 µs after the MST's end.
+    assert!(own.len() >= 3, "{own:?}");
+    assert_eq!(m.read_ram(37), word0, "AT 1 stored over it");
+}
+
+// 410B §4.2.1/§4.2.2, the same programming error: an advance before the output
+// (`Chip::advance_before_output`) during which the first AT's data enable the header ahead
+// does not keep the bound found before: after every advance the chip's bound is the one a
+// plain advance leaves, and the third telegram is still sent at its bound.
+#[test]
+fn data_over_a_header_ahead_are_not_outlived_by_a_kept_bound() {
+    let (mut m, own, kept, word0) = header_ahead_run(true);
     assert!(kept > 10, "{kept} advances before the output");
     assert!(own.len() >= 3, "{own:?}");
-    assert_eq!(
-        m.read_ram(37),
-        enabled.to_words(v)[0],
-        "AT 1 stored over it"
-    );
+    assert_eq!(m.read_ram(37), word0, "AT 1 stored over it");
 }
 
 // 410B §4.2.1 EN: the host enables a transmit header ahead of the current receive header
@@ -461,7 +417,10 @@ proptest! {
     }
 
     // Arbitrary RAM (headers, containers and service containers anywhere, overlapping) and
-    // arbitrary frames: the bound never panics and no own telegram starts before it.
+    // arbitrary frames: the bound never panics and no own telegram starts before it; the
+    // same with every advance that stops before the bound made by
+    // `Chip::advance_before_output` (debug builds check every kept bound against a fresh
+    // walk; the chip ends each step as a plain advance leaves it).
     #[test]
     fn arbitrary_ram_and_frames_keep_the_promise(
         ram in proptest::collection::vec(any::<u16>(), 64),
@@ -472,77 +431,52 @@ proptest! {
             0..12,
         ),
     ) {
-        let mut chip = common::arbitrary_chip(&ram, fill, master, None);
-        let mut frames = frames;
-        frames.sort_by_key(|f| f.0);
-        // 816 §2.3.1: 16 Mbit/s, 62.5 ns per bit.
-        let mut buf = Vec::new();
-        let mut next = frames.into_iter().peekable();
-        for t in 1..=400u64 {
-            let now = Instant::ZERO + Duration::from_micros(t);
-            // Frames are handed over a µs ahead of their start (as a ring delivers them).
-            while let Some((start, bytes)) = next.next_if(|f| f.0 <= t) {
-                let start = Instant::ZERO + Duration::from_micros(start + 1);
-                if let Some(seg) = common::try_hinted_frame(start, &bytes) {
-                    chip.line_input(seg);
-                }
-            }
-            let p = promise(&chip);
-            chip.advance_to(now);
-            chip.take_line_output(&mut buf);
-            for seg in buf.drain(..) {
-                prop_assert!(
-                    p.is_some_and(|p| seg.start >= p),
-                    "a segment at {:?} before the promise {:?}", seg.start, p
-                );
-            }
-        }
+        let chip = common::arbitrary_chip(&ram, fill, master, None);
+        arbitrary_run(chip.clone(), frames.clone(), false)?;
+        arbitrary_run(chip, frames, true)?;
     }
+}
 
-    // The same with every advance that stops before the bound made by
-    // `Chip::advance_before_output`: it never panics (debug builds check every kept bound
-    // against a fresh walk), the chip ends as a plain advance leaves it, and no own telegram
-    // starts before the promise.
-    #[test]
-    fn arbitrary_ram_and_frames_keep_the_bound_kept_across_advances(
-        ram in proptest::collection::vec(any::<u16>(), 64),
-        fill in any::<u16>(),
-        master in any::<bool>(),
-        frames in proptest::collection::vec(
-            (0u64..300, proptest::collection::vec(any::<u8>(), 0..40)),
-            0..12,
-        ),
-    ) {
-        let mut chip = common::arbitrary_chip(&ram, fill, master, None);
-        let mut frames = frames;
-        frames.sort_by_key(|f| f.0);
-        let mut buf = Vec::new();
-        let mut next = frames.into_iter().peekable();
-        for t in 1..=400u64 {
-            let now = Instant::ZERO + Duration::from_micros(t);
-            while let Some((start, bytes)) = next.next_if(|f| f.0 <= t) {
-                let start = Instant::ZERO + Duration::from_micros(start + 1);
-                if let Some(seg) = common::try_hinted_frame(start, &bytes) {
-                    chip.line_input(seg);
-                }
-            }
-            let p = promise(&chip);
-            if chip.next_output_bound().is_some_and(|b| b > now) {
-                let mut plain = chip.clone();
-                plain.advance_to(now);
-                chip.advance_before_output(now);
-                prop_assert_eq!(chip.next_output_bound(), plain.next_output_bound());
-                prop_assert_eq!(chip.read_register(0x17), plain.read_register(0x17));
-            } else {
-                chip.advance_to(now);
-            }
-            chip.take_line_output(&mut buf);
-            for seg in buf.drain(..) {
-                prop_assert!(
-                    p.is_some_and(|p| seg.start >= p),
-                    "a segment at {:?} before the promise {:?}", seg.start, p
-                );
+/// Runs `chip` µs by µs to 400 µs with `frames` (start in µs, ADR and data) handed over a µs
+/// ahead of their start (as a ring delivers them, 816 §2.3.1: 16 Mbit/s), checking every
+/// released segment against the promise asked before its advance; with `keep`, every
+/// advance that stops before the bound is `Chip::advance_before_output`, checked against a
+/// plain advance of a copy.
+fn arbitrary_run(
+    mut chip: Chip,
+    mut frames: Vec<(u64, Vec<u8>)>,
+    keep: bool,
+) -> Result<(), TestCaseError> {
+    frames.sort_by_key(|f| f.0);
+    let mut buf = Vec::new();
+    let mut next = frames.into_iter().peekable();
+    for t in 1..=400u64 {
+        let now = Instant::ZERO + Duration::from_micros(t);
+        while let Some((start, bytes)) = next.next_if(|f| f.0 <= t) {
+            let start = Instant::ZERO + Duration::from_micros(start + 1);
+            if let Some(seg) = common::try_hinted_frame(start, &bytes) {
+                chip.line_input(seg);
             }
         }
+        let p = promise(&chip);
+        if keep && chip.next_output_bound().is_some_and(|b| b > now) {
+            let mut plain = chip.clone();
+            plain.advance_to(now);
+            chip.advance_before_output(now);
+            prop_assert_eq!(chip.next_output_bound(), plain.next_output_bound());
+            prop_assert_eq!(chip.read_register(0x17), plain.read_register(0x17));
+        } else {
+            chip.advance_to(now);
+        }
+        chip.take_line_output(&mut buf);
+        for seg in buf.drain(..) {
+            prop_assert!(
+                p.is_some_and(|p| seg.start >= p),
+                "a segment at {:?} before the promise {:?}",
+                seg.start,
+                p
+            );
+        }
     }
+    Ok(())
 }
