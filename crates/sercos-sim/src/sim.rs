@@ -830,16 +830,17 @@ impl Simulation {
         }
         let start = node.clock.to_global(local.start);
         // A telegram of the master to a slave (`Simulation::run_ahead`): where it ends. Only
-        // a node on the simulation's clock runs ahead: with a clock error, local and global
-        // instants do not map one to one (a telegram's end, taken back, can lie after the
-        // next one's start).
-        let ahead_to = (self.run_ahead_ok && origin == 0 && j != 0 && node.clock.is_identity())
-            .then(|| match local.signal {
-                LineSignal::Bits(_) => local.end(),
-                _ => None,
-            })
-            .flatten()
-            .map(|e| node.clock.to_global(e));
+        // a node on the simulation's clock runs ahead (its local instants are the
+        // simulation's): with a clock error they do not map one to one (a telegram's end,
+        // taken back, can lie after the next one's start).
+        let ahead_to = (self.run_ahead_ok
+            && self.lookahead == Lookahead::Events
+            && origin == 0
+            && j != 0
+            && node.clock.is_identity()
+            && matches!(local.signal, LineSignal::Bits(_)))
+        .then(|| local.end())
+        .flatten();
         node.chip.line_input(local);
         self.stats.deliveries += 1;
         // A segment that starts after the chip's time adds events from its start on only
@@ -863,9 +864,7 @@ impl Simulation {
                 );
                 return;
             }
-            if let Some(end) = ahead_to
-                && self.lookahead == Lookahead::Events
-            {
+            if let Some(end) = ahead_to {
                 self.run_ahead(j, end);
             }
             let Some(node) = self.nodes.get(j) else {
