@@ -58,6 +58,13 @@ pub struct Chip {
     /// serial-port changes, which the bound reads afresh. A simulation asks for the bound
     /// after every delivery; most deliveries then cost a load here instead of a walk.
     pub(crate) out_bound: std::cell::Cell<Option<Option<u64>>>,
+    /// Whether the telegram processor's own writes leave its header lists as they are
+    /// (`telegram_processor::layout`), as last found (`None`: to be found); the bound above
+    /// is promised only then. A host write to a word the walks read drops it.
+    /// With the blocks whose lists it covers (bit n: block n).
+    pub(crate) layout: std::cell::Cell<Option<(bool, u8)>>,
+    /// The words the walks read, as the layout proof found them.
+    pub(crate) layout_read: std::cell::RefCell<crate::telegram_processor::RamWords>,
 }
 
 impl Chip {
@@ -95,6 +102,8 @@ impl Chip {
             tp_next: None,
             dma_trace: [(false, None); 2],
             out_bound: std::cell::Cell::new(None),
+            layout: std::cell::Cell::new(None),
+            layout_read: Default::default(),
         }
     }
 
@@ -368,10 +377,15 @@ impl Chip {
             return Some(internal);
         }
         let tick = match self.out_bound.get() {
+            // Found under the layout proof, which stands while it does (both go with a
+            // host write; the blocks change only with a register write).
             Some(memo) => {
                 debug_assert_eq!(memo, self.output_bound_tick(), "stale out_bound");
+                debug_assert!(self.layout_proof(), "out_bound without the layout proof");
                 memo
             }
+            // The processor's own writes may rewrite its lists: nothing is promised.
+            None if !self.layout_proof() => return Some(internal),
             None => {
                 let tick = self.output_bound_tick();
                 self.out_bound.set(Some(tick));
@@ -383,6 +397,22 @@ impl Chip {
             self.serial_next_loud_event(),
         )?;
         Some(bound.max(internal))
+    }
+
+    /// Whether the telegram processor's own writes leave its header lists as they are
+    /// (`telegram_processor::layout`): found once, kept until a host write to a word the
+    /// walks read.
+    pub(crate) fn layout_proof(&self) -> bool {
+        let blocks = crate::telegram_processor::possible_blocks(self);
+        if let Some((proof, proved)) = self.layout.get()
+            && proved & blocks == blocks
+        {
+            return proof;
+        }
+        let (proof, read) = crate::telegram_processor::prove_layout(self, blocks);
+        self.layout.set(Some((proof, blocks)));
+        *self.layout_read.borrow_mut() = read;
+        proof
     }
 
     /// The telegram-processor part of [`Chip::next_output_bound`]: the MCLK tick of the
@@ -608,6 +638,12 @@ impl SerconBus for Chip {
         let mask = self.cfg.variant.ram_address_mask();
         if let Some(word) = self.ram.get_mut(usize::from(address & mask)) {
             *word = value;
+        }
+        // The layout proof stands unless a word the walks read changed.
+        if !self.layout.get().is_some_and(|(proof, _)| proof)
+            || self.layout_read.borrow().any(u32::from(address & mask), 1)
+        {
+            self.layout.set(None);
         }
         // A header ahead may have changed: the output bound's remembered walks go (the
         // processor's next tick does not read the RAM; found by fuzz target bus_sequence).

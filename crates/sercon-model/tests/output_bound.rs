@@ -14,7 +14,7 @@ mod common;
 
 use pair_setup::{Shape, any_shape, chips};
 use proptest::prelude::*;
-use sercon_model::serial_port::LineSignal;
+use sercon_model::serial_port::{LineSegment, LineSignal};
 use sercon_model::{Chip, ChipConfig};
 use sercon_regs::ram::container::ContainerControl;
 use sercon_regs::ram::header::{EndMarker, RxHeader, TxEnable, TxHeader};
@@ -479,4 +479,138 @@ fn arbitrary_run(
         }
     }
     Ok(())
+}
+
+/// The second receive header of [`master_with_a_header_ahead`] (at 50), its PT leading to
+/// the header at 37 or, with `skip_third`, straight to the end marker at 70.
+fn at2_header(skip_third: bool) -> RxHeader {
+    RxHeader {
+        adr: 2,
+        achk: true,
+        trt: 60,
+        tlen: 1,
+        pt: if skip_third { 70 } else { 37 },
+        ..RxHeader::default()
+    }
+}
+
+/// The master of [`master_with_a_header_ahead`] after its MST and MDT, both ATs handed over
+/// ahead as a ring hands them (each telegram with the filler after it), AT 1 carrying the
+/// header at 37 with EN = 2 (words little-endian, 410B §4.2.2 POS). With `skip_third`
+/// AT 2's PT leads to the end marker, so the header at 37 is on no list. Returns the master
+/// and the start of its MST.
+fn master_with_ats_ahead(skip_third: bool) -> (Chip, Instant) {
+    let v = Variant::Sercon816;
+    let (mut m, third) = master_with_a_header_ahead();
+    m.write_ram_words(50, &at2_header(skip_third).to_words(v));
+    let enabled = TxHeader {
+        en: TxEnable::Continuous,
+        ..third
+    };
+    let mut at1_bytes = vec![1u8];
+    for w in enabled.to_words(v) {
+        at1_bytes.extend_from_slice(&w.to_le_bytes());
+    }
+    let mut buf = Vec::new();
+    let mut mst_at = None;
+    let mut t = Instant::ZERO;
+    while mst_at.is_none() && t < Instant::ZERO + Duration::from_micros(300) {
+        t += Duration::from_micros(1);
+        m.advance_to(t);
+        m.take_line_output(&mut buf);
+        mst_at = buf
+            .iter()
+            .find(|s| matches!(s.signal, LineSignal::Bits(_)))
+            .map(|s| s.start);
+        buf.clear();
+    }
+    let t0 = mst_at.expect("the master sends its MST");
+    m.advance_to(t0 + Duration::from_micros(5));
+    m.take_line_output(&mut buf);
+    let with_filler = |s: LineSegment| LineSegment {
+        then_filler: true,
+        ..s
+    };
+    m.set_implied_filler(true);
+    m.line_input(with_filler(common::hinted_frame(
+        t0 + Duration::from_micros(15),
+        &at1_bytes,
+    )));
+    m.line_input(with_filler(common::hinted_frame(
+        t0 + Duration::from_micros(35),
+        &[2, 0xAA, 0x55],
+    )));
+    (m, t0)
+}
+
+// 410B §4.2.1/§4.2.2, the same programming error, as a simulation sleeping on the promise
+// sees it: both ATs handed over before the master reached them, then advances from promise
+// to promise. AT 1's data enable the header ahead, so no promise may lie past the third
+// telegram (the processor's own writes can rewrite its list: no layout proof).
+#[test]
+fn a_promise_made_with_frames_pending_holds_for_what_they_write() {
+    let (mut m, t0) = master_with_ats_ahead(false);
+    let mut buf = Vec::new();
+    let mut own = Vec::new();
+    while own.is_empty() && m.now() < t0 + Duration::from_micros(300) {
+        let Some(p) = promise(&m) else { break };
+        m.advance_to(p);
+        m.take_line_output(&mut buf);
+        for seg in buf.drain(..) {
+            assert!(
+                seg.start >= p,
+                "a segment at {:?} before the promise {p:?}",
+                seg.start
+            );
+            if let LineSignal::Bits(_) = seg.signal {
+                own.push(seg.start);
+            }
+        }
+    }
+    // The third telegram (TRT 120 µs after the MST's end), before the next MST (250 µs).
+    assert!(
+        own.first()
+            .is_some_and(|s| *s < t0 + Duration::from_micros(250)),
+        "{own:?} after the MST at {t0:?}"
+    );
+}
+
+// 410B §4.2.2: with AT 1's container laid over a header on the list nothing is promised
+// beyond the master's next event (the frame waiting to be stored); with that header off the
+// list the master sleeps through both frames to its next cycle.
+#[test]
+fn a_list_its_own_writes_can_rewrite_is_promised_nothing_beyond_the_next_event() {
+    let (mut m, t0) = master_with_ats_ahead(false);
+    // At AT 1's start (the line's first light after the MDT is an event of its own).
+    m.advance_to(t0 + Duration::from_micros(15));
+    assert!(m.next_internal_event_at().is_some());
+    assert_eq!(m.next_output_bound(), m.next_internal_event_at());
+    let (mut m, t0) = master_with_ats_ahead(true);
+    m.advance_to(t0 + Duration::from_micros(15));
+    assert!(
+        m.next_output_bound() > m.next_internal_event_at(),
+        "{:?} {:?}",
+        m.next_output_bound(),
+        m.next_internal_event_at()
+    );
+}
+
+// A host write leaves the layout as it was unless it writes a word the walks read
+// (a header, a container control word, the pointer words): a data word keeps the promise,
+// AT 2's PT led back to the header under AT 1's container takes it.
+#[test]
+fn a_host_write_to_a_header_can_take_the_layout_proof_a_data_write_keeps() {
+    let v = Variant::Sercon816;
+    let (mut m, t0) = master_with_ats_ahead(true);
+    m.advance_to(t0 + Duration::from_micros(15));
+    let bound = m.next_output_bound();
+    m.write_ram(57, 0xBEEF);
+    assert_eq!(m.next_output_bound(), bound, "a data word");
+    assert!(bound > m.next_internal_event_at());
+    m.write_ram_words(50, &at2_header(false).to_words(v));
+    assert_eq!(
+        m.next_output_bound(),
+        m.next_internal_event_at(),
+        "AT 2's PT"
+    );
 }

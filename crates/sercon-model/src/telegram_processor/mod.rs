@@ -14,6 +14,8 @@
 
 mod fifo;
 mod host;
+mod layout;
+pub(crate) use layout::{RamWords, possible_blocks, prove as prove_layout};
 mod line_out;
 mod output_bound;
 pub(crate) use output_bound::next_tx_bound;
