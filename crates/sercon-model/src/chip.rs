@@ -245,16 +245,20 @@ impl Chip {
     /// PT) and the walk that found the bound read what the processor reads on its way there,
     /// unless the processor itself wrote those words meanwhile (receive data or a service
     /// container laid over headers ahead: then the bound is found afresh) or ended the block
-    /// early with a programming error (17H PROGERR_FL: likewise). Debug builds check the
-    /// kept bound against a fresh walk.
+    /// early with a programming error (17H PROGERR_FL: likewise), or a block ended or began
+    /// (a bound found while the block could still store was the conservative one, its end:
+    /// found afresh, it may lie later). Debug builds check the kept bound against a fresh
+    /// walk.
     pub fn advance_before_output(&mut self, t: Instant) {
         let memo = self.out_bound.get();
         let irregular = self.tp.irregular;
+        let block = self.tp.block.map(|b| (b.block, b.ref_tick));
         self.tp.walk_overwritten.set(false);
         self.advance_to(t);
         if let Some(bound) = memo
             && !self.tp.walk_overwritten.get()
             && self.tp.irregular == irregular
+            && self.tp.block.map(|b| (b.block, b.ref_tick)) == block
             && bound.is_none_or(|tick| self.clock.instant(tick) > t)
         {
             debug_assert_eq!(bound, self.output_bound_tick(), "kept out_bound");
@@ -397,6 +401,44 @@ impl Chip {
             self.serial_next_loud_event(),
         )?;
         Some(bound.max(internal))
+    }
+
+    /// The earliest instant at which the chip may release line output whatever line input
+    /// reaches it meanwhile; `None` when that is not promised. `Some(Instant::MAX)`: no
+    /// output ahead.
+    ///
+    /// Promised for a chip that is not a SERCOS slave (a slave's block starts with the MST
+    /// it receives, 410B §4.2.1 TRT) with its watchdog stopped, its receiver's copies not
+    /// released (1H.3 REPON, [`Chip::set_forward_output`]) and the layout proof
+    /// (`telegram_processor::layout`: its own writes cannot rewrite its header lists): then a
+    /// received telegram only stores data and status, and the chip's next output is its next
+    /// own telegram or cycle start (the telegram-processor part of
+    /// [`Chip::next_output_bound`]) or an output it has already queued. A simulation may run
+    /// the chips its output reaches up to that instant (plus the line's delay) without
+    /// waiting for it.
+    pub fn next_output_for_any_input(&self) -> Option<Instant> {
+        if self.in_reset
+            || self.engine.s.is_sercos_slave()
+            || self.engine.wd.running
+            || self.serial.output_follows_input()
+            || !self.layout_proof()
+        {
+            return None;
+        }
+        // 410B §4.1 0CH: the next cycle start sends the MST (the timing control's other
+        // events in between only move pins).
+        let tick = match (
+            crate::telegram_processor::next_tx_bound(self),
+            self.engine.next_cycle_start(),
+        ) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        let own = tick.map_or(Instant::MAX, |k| self.clock.instant(k));
+        // What it has queued, but for the filler its last telegram implies (it sends
+        // nothing, `Chip::set_implied_filler`).
+        let queued = self.next_line_output_except(std::iter::empty());
+        Some(queued.map_or(own, |q| own.min(q)))
     }
 
     /// Whether the telegram processor's own writes leave its header lists as they are

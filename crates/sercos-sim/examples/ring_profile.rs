@@ -37,10 +37,12 @@ fn main() {
     let sim_s = cycle.as_secs_f64() * cycles as f64;
     let after = sim.stats();
     println!(
-        "{name} {lookahead:?}: {:.1} us/cycle, {:.1}x real time, {:.1} events/cycle, {:.1} deliveries/cycle",
+        "{name} {lookahead:?}: {:.1} us/cycle, {:.1}x real time, {:.1} events/cycle, {:.1} deliveries/cycle, {:.1} run-aheads/cycle, {} late",
         wall_s * 1e6 / cycles as f64,
         sim_s / wall_s,
         (after.events - before.events) as f64 / cycles as f64,
-        (after.deliveries - before.deliveries) as f64 / cycles as f64
+        (after.deliveries - before.deliveries) as f64 / cycles as f64,
+        (after.run_aheads - before.run_aheads) as f64 / cycles as f64,
+        after.late - before.late
     );
 }

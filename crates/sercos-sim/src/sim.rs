@@ -25,6 +25,7 @@ use crate::node::{Node, repeats};
 use crate::recorder::{Recorder, TraceOutput};
 use crate::topology::Topology;
 
+mod early_route;
 mod host_run;
 #[cfg(test)]
 mod light_wake_tests;
@@ -72,9 +73,15 @@ pub struct SimStats {
     pub collisions: u64,
     /// Segments that reached a receiver whose chip had already passed their start.
     pub late: u64,
-    /// Times a slave's chip ran ahead to the end of a telegram of the master
+    /// Times a slave's chip ran ahead after a telegram of the master reached it
     /// ([`HostProgram::inert`] hosts only; the run is the same without).
     pub run_aheads: u64,
+    /// Of those, the runs up to the master's next telegram, through the slave's own output
+    /// (taken at its time), rather than to the end of the one it received.
+    pub runs_past_output: u64,
+    /// Slave telegrams sent on right after the master's telegram that let every slave run
+    /// past them, not at a wake of their own (`early_route`).
+    pub ats_sent_on: u64,
 }
 
 /// One segment (fibre, or the bus) as the simulation sees it.
@@ -141,6 +148,14 @@ pub struct Simulation {
     /// The end of the current `run_until` (a chip never runs ahead past it: after the run it
     /// is read at that instant).
     run_to: Instant,
+    /// The fibres' delay from the master's transmitter to each node's receiver (without the
+    /// repeaters' latency).
+    from_master: Vec<Duration>,
+    /// The first slave whose clock is not the simulation's (the node count if none): the
+    /// master's telegrams pass the repeaters before it by their latency exactly.
+    first_drifting: usize,
+    /// Slaves run past their own output in the pass being made (`early_route`).
+    deferred: Vec<usize>,
 }
 
 /// How a node's next wake is found.
@@ -189,6 +204,13 @@ impl Simulation {
             check_fault(f, n, seg_delays.len())?;
         }
         let mut recorder = Recorder::new(cfg.traces.clone())?;
+        let from_master: Vec<Duration> = (0..n)
+            .scan(Duration::ZERO, |d, k| {
+                let here = *d;
+                *d = d.saturating_add(seg_delays.get(k).copied().unwrap_or(Duration::ZERO));
+                Some(here)
+            })
+            .collect();
         let run_ahead_ok = matches!(cfg.topology, Topology::Ring { .. })
             && cfg.delivery == Delivery::Fast
             && hosts.iter().all(|h| h.inert());
@@ -315,7 +337,11 @@ impl Simulation {
             run_ahead_ok,
             run_to: Instant::ZERO,
             plain_pass: None,
+            from_master,
+            first_drifting: n,
+            deferred: Vec::new(),
         };
+        sim.first_drifting = first_drifting(&sim.nodes);
         sim.start_hosts();
         sim.settle();
         if let Some(e) = sim.held_error.take() {
@@ -400,6 +426,8 @@ impl Simulation {
     fn process(&mut self, (time, ev): (Instant, Ev)) -> Result<(), SimError> {
         self.now = self.now.max(time);
         self.stats.events += 1;
+        // Passes of an earlier event are sent on or forgotten (`early_route`).
+        self.deferred.clear();
         match ev {
             Ev::Node(j) => {
                 if let Some(node) = self.nodes.get_mut(j) {
@@ -558,11 +586,16 @@ impl Simulation {
             return;
         };
         let mut out = std::mem::take(&mut self.buf);
-        node.chip.take_line_output(&mut out);
+        // A chip run past its output (`run_ahead`) keeps what starts later until then.
+        let until = node.clock.to_local(self.now);
+        node.chip.take_line_output_until(until, &mut out);
         for seg in out.drain(..) {
             self.route_output(j, seg);
         }
         self.buf = out;
+        if !self.deferred.is_empty() {
+            self.route_deferred();
+        }
     }
 
     /// Recomputes whether a slave telegram passes node `k` by its delays alone.
@@ -833,6 +866,10 @@ impl Simulation {
         // a node on the simulation's clock runs ahead (its local instants are the
         // simulation's): with a clock error they do not map one to one (a telegram's end,
         // taken back, can lie after the next one's start).
+        // The master's next segment is its next telegram only when this one carries the
+        // filler after it (unsplit on its way here, `splits_filler`): then a run past it may
+        // go up to that telegram (`Simulation::master_horizon`).
+        let past = (local.then_filler).then_some(local.bit_time);
         let ahead_to = (self.run_ahead_ok
             && self.lookahead == Lookahead::Events
             && origin == 0
@@ -864,13 +901,15 @@ impl Simulation {
                 );
                 return;
             }
-            if let Some(end) = ahead_to {
-                self.run_ahead(j, end);
+            if let Some(end) = ahead_to
+                && self.run_ahead(j, end, past)
+            {
+                self.deferred.push(j);
             }
             let Some(node) = self.nodes.get(j) else {
                 return;
             };
-            if !node.chip.line_output_due() {
+            if !node.chip.line_output_due_at(node.clock.to_local(self.now)) {
                 // Serving it would find nothing to do but its next wake (no host due, no
                 // output, nothing traced): only that is set, once the event's nodes are
                 // served (its wake may only come earlier: the input adds frames and
@@ -906,31 +945,76 @@ impl Simulation {
     /// interrupt output or a pin can be seen (`Chip::next_output_bound`), come no earlier.
     /// The caller gives only slaves on the simulation's clock (`deliver`): then an instant
     /// before the limit is one before every later input in the chip's time too.
-    fn run_ahead(&mut self, j: usize, end: Instant) {
+    fn run_ahead(&mut self, j: usize, end: Instant, past: Option<Duration>) -> bool {
+        let mut limit = self.run_to.saturating_add(Duration::from_picos(1));
+        if let Some(f) = self.queue.peek_fault_time() {
+            limit = limit.min(f);
+        }
+        if let Some(h) = past.and_then(|bit_time| self.master_horizon(j, bit_time)) {
+            // Through the node's own output too (taken at its wake, `route_outputs`, or
+            // right after this pass, `early_route`).
+            return self.run_ahead_to(j, limit.min(h), true);
+        }
         let wake = match self.next_wake(j) {
             Some(w) => w,
             None => self.nodes.get(j).and_then(|n| n.wake),
         };
-        let mut limit = end.min(self.run_to.saturating_add(Duration::from_picos(1)));
+        limit = limit.min(end);
         if let Some(w) = wake {
             limit = limit.min(w);
         }
-        if let Some(f) = self.queue.peek_fault_time() {
-            limit = limit.min(f);
+        self.run_ahead_to(j, limit, false);
+        false
+    }
+
+    /// When the master's next output can reach node `j` at the earliest, whatever the
+    /// master receives meanwhile (`Chip::next_output_for_any_input`, plus the fibres' delay
+    /// and the repeater latency of the nodes in between at `bit_time`, the master's; 410B
+    /// §1); `None` unless both are on the simulation's clock and `j`'s pins are not traced
+    /// (its pin events would come ahead of the simulation's time).
+    fn master_horizon(&self, j: usize, bit_time: Duration) -> Option<Instant> {
+        let master = self.nodes.first()?;
+        let node = self.nodes.get(j)?;
+        if !master.powered
+            || !master.clock.is_identity()
+            || node.vcd.is_some()
+            || j > self.first_drifting
+        {
+            return None;
         }
+        let out = master.chip.next_output_for_any_input()?;
+        let repeaters = u64::try_from(j.saturating_sub(1)).ok()?;
+        let latency = bit_time
+            .saturating_mul(REPEATER_LATENCY_BITS)
+            .saturating_mul(repeaters);
+        Some(
+            out.saturating_add(self.from_master.get(j).copied()?)
+                .saturating_add(latency),
+        )
+    }
+
+    /// [`Simulation::run_ahead`] to just before `limit`; `past_output`: through the node's
+    /// own output (a plain advance), else before it (the bound kept). Whether it ran past.
+    fn run_ahead_to(&mut self, j: usize, limit: Instant, past_output: bool) -> bool {
         // Just before: an input or an event at the limit itself keeps its order within the
         // instant (a segment's changes before the MCLK tick at the same instant).
         let Some(to) = limit.as_picos().checked_sub(1).map(Instant::from_picos) else {
-            return;
+            return false;
         };
         let Some(node) = self.nodes.get_mut(j) else {
-            return;
+            return false;
         };
         let to = node.clock.to_local(to);
         if to > node.chip.now() {
-            node.chip.advance_before_output(to);
             self.stats.run_aheads += 1;
+            if past_output {
+                node.chip.advance_to(to);
+                self.stats.runs_past_output += 1;
+                return true;
+            }
+            node.chip.advance_before_output(to);
         }
+        false
     }
 
     /// Sets node `j`'s wake to [`Simulation::next_wake`].
@@ -1038,6 +1122,7 @@ impl Simulation {
                 if let Some(n) = self.nodes.get_mut(node) {
                     n.clock.set_error_ppb(t, ppm_to_ppb(ppm));
                 }
+                self.first_drifting = first_drifting(&self.nodes);
                 self.refresh_hop(node);
                 self.touch(node);
             }
@@ -1158,6 +1243,16 @@ fn general_wake(node: &Node, lookahead: Lookahead, exact: bool) -> Option<Instan
 }
 
 /// Node 0 is the master; everyone else a slave.
+/// The first slave whose clock is not the simulation's, or the node count.
+fn first_drifting(nodes: &[Node]) -> usize {
+    nodes
+        .iter()
+        .enumerate()
+        .skip(1)
+        .find(|(_, n)| !n.clock.is_identity())
+        .map_or(nodes.len(), |(j, _)| j)
+}
+
 fn origin_of(node: usize) -> Origin {
     if node == 0 {
         Origin::Master

@@ -84,10 +84,31 @@ impl Chip {
         self.serial.take_output(now, out);
     }
 
+    /// [`Chip::take_line_output`] of the segments that start at or before `t` only (a chip
+    /// run ahead of its simulation keeps the later ones until then).
+    pub fn take_line_output_until(&mut self, t: Instant, out: &mut Vec<LineSegment>) {
+        let t = t.min(self.now);
+        self.serial.take_output(t, out);
+    }
+
     /// Whether [`Chip::take_line_output`] would hand anything over now (an output segment
     /// starts at or before [`Chip::now`]).
     pub fn line_output_due(&self) -> bool {
         self.serial.output_due(self.now)
+    }
+
+    /// The one own telegram the chip has queued, from its first bit to the end of its last,
+    /// with its bit time (`(start, end, bit time)`), when nothing else is queued to go out
+    /// around it (no background segment; after it only the filler it implies,
+    /// [`Chip::set_implied_filler`]): what [`Chip::take_line_output`] hands over once the
+    /// chip is past its start.
+    pub fn sole_queued_telegram(&self) -> Option<(Instant, Instant, sercos_wire::time::Duration)> {
+        self.serial.sole_own_output()
+    }
+
+    /// Whether [`Chip::take_line_output_until`] at `t` would hand anything over.
+    pub fn line_output_due_at(&self, t: Instant) -> bool {
+        self.serial.output_due(t.min(self.now))
     }
 
     /// When the next output segment not yet given by [`Chip::take_line_output`] starts.

@@ -246,6 +246,12 @@ impl SerialPort {
         self.tx.carried_forwarding = !on;
     }
 
+    /// Whether what is received goes out again as it comes (1H.3 REPON, the copies released,
+    /// `Chip::set_forward_output`): the output then follows the input.
+    pub(crate) fn output_follows_input(&self) -> bool {
+        self.cfg.tx_mode == TxMode::Repeat && !self.tx.carried_forwarding
+    }
+
     /// Own telegrams carry the filler resumed after them (`Chip::set_implied_filler`).
     pub(crate) fn set_implied_filler(&mut self, on: bool) {
         self.tx.implied_filler = on;
@@ -274,6 +280,11 @@ impl SerialPort {
     /// The instant the next own output segment starts (not a queued background segment).
     pub(crate) fn next_own_output_at(&self) -> Option<Instant> {
         self.tx.next_own_release_at()
+    }
+
+    /// The one own telegram queued and nothing else (`Transmitter::sole_own`).
+    pub(crate) fn sole_own_output(&self) -> Option<(Instant, Instant, Duration)> {
+        self.tx.sole_own()
     }
 
     /// Starts of the queued background output segments, in order.

@@ -205,6 +205,25 @@ impl Transmitter {
         self.silent_resume && self.background.front().is_none_or(|b| b.seg.start >= at)
     }
 
+    /// The one own telegram queued, `(start, end, bit time)`, when nothing else will be
+    /// released around it: no background segment queued and any resume after it silent.
+    pub(crate) fn sole_own(&self) -> Option<(Instant, Instant, Duration)> {
+        if self.own.len() != 1
+            || !self.released.is_empty()
+            || self.background.iter().any(|q| !q.carried)
+        {
+            return None;
+        }
+        if self.resume_at.is_some_and(|r| !self.resume_is_silent(r)) {
+            return None;
+        }
+        let own = self.own.front()?;
+        let end = own
+            .start
+            .saturating_add(own.bit_time.saturating_mul(own.len));
+        Some((own.start, end, own.bit_time))
+    }
+
     /// Starts of the queued background segments that will be released as output
     /// (forwarded input unless carried, filler), in order.
     pub(crate) fn background_starts(&self) -> impl Iterator<Item = Instant> + '_ {

@@ -46,13 +46,33 @@ struct Outcome {
 /// Steps of `run_until` (a chip read after a run is at its end, run ahead or not).
 const STEP: Duration = Duration::from_micros(7);
 
-/// Runs `ring` to `until` in steps of [`STEP`] with `faults`, slaves running ahead or not,
+/// How a run is watched.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Watch {
+    /// Every fibre's telegrams logged (a traced fibre carries a telegram and its filler
+    /// apart, so slaves run ahead only to the end of the master's telegram).
+    Logged,
+    /// Nothing logged: the master's telegrams carry their filler to every slave, which then
+    /// run through their own telegrams up to the master's next one
+    /// ([`Simulation::master_horizon`]).
+    Quiet,
+}
+
+/// Runs `ring` to `until` in steps of `step` with `faults`, slaves running ahead or not,
 /// every host wrapped in [`Polling`] if `polling`.
-fn run(ring: &StaticRing, faults: &[Fault], ahead: bool, polling: bool, until: Instant) -> Outcome {
+fn run(
+    ring: &StaticRing,
+    faults: &[Fault],
+    (ahead, polling): (bool, bool),
+    watch: Watch,
+    (step, until): (Duration, Instant),
+) -> Outcome {
     let Ok((mut cfg, hosts, _)) = ring.build() else {
         panic!("the ring fits");
     };
-    cfg.traces.log = Some(LogFormat::Text);
+    if watch == Watch::Logged {
+        cfg.traces.log = Some(LogFormat::Text);
+    }
     cfg.faults = faults.to_vec();
     let hosts: Vec<Box<dyn HostProgram>> = if polling {
         hosts
@@ -69,7 +89,7 @@ fn run(ring: &StaticRing, faults: &[Fault], ahead: bool, polling: bool, until: I
     let mut steps = Vec::new();
     let mut t = Instant::ZERO;
     while t < until {
-        t = t.saturating_add(STEP).min(until);
+        t = t.saturating_add(step).min(until);
         assert!(sim.run_until(t).is_ok());
         let nows = (0..sim.node_count())
             .filter_map(|j| sim.chip_mut(j).map(|c| c.now()))
@@ -89,16 +109,62 @@ fn run(ring: &StaticRing, faults: &[Fault], ahead: bool, polling: bool, until: I
     }
 }
 
-/// Both ways give the same run; returns how often slaves ran ahead.
-fn same_run(ring: &StaticRing, faults: &[Fault], until: Instant, what: &str) -> u64 {
-    let plain = run(ring, faults, false, false, until);
-    let ahead = run(ring, faults, true, false, until);
-    assert!(!plain.log.is_empty(), "{what}: a log was written");
+/// Both ways give the same run, logged and quiet; returns the counters of the logged and
+/// the quiet run ahead.
+fn same_run(
+    ring: &StaticRing,
+    faults: &[Fault],
+    until: Instant,
+    what: &str,
+) -> (SimStats, SimStats) {
+    (
+        same_run_watched(ring, faults, until, what, Watch::Logged),
+        same_run_watched(ring, faults, until, what, Watch::Quiet),
+    )
+}
+
+/// [`same_run`] one way of watching: in steps of [`STEP`] (every chip compared after each)
+/// and in one run to `until` (where a run ahead is bound by the master's next telegram, not
+/// by the step's end); returns the counters of the one run ahead.
+fn same_run_watched(
+    ring: &StaticRing,
+    faults: &[Fault],
+    until: Instant,
+    what: &str,
+    watch: Watch,
+) -> SimStats {
+    let whole = until.saturating_duration_since(Instant::ZERO);
+    same_run_stepped(ring, faults, (STEP, until), what, watch);
+    same_run_stepped(ring, faults, (whole, until), what, watch)
+}
+
+/// [`same_run_watched`] in steps of `step`.
+fn same_run_stepped(
+    ring: &StaticRing,
+    faults: &[Fault],
+    steps: (Duration, Instant),
+    what: &str,
+    watch: Watch,
+) -> SimStats {
+    let plain = run(ring, faults, (false, false), watch, steps);
+    let ahead = run(ring, faults, (true, false), watch, steps);
+    let what = format!("{what} ({watch:?}, steps of {:?})", steps.0);
+    assert_eq!(
+        !plain.log.is_empty(),
+        watch == Watch::Logged,
+        "{what}: a log"
+    );
     assert_eq!(plain.log, ahead.log, "{what}: telegram log");
     assert_eq!(plain.stats.run_aheads, 0, "{what}");
+    // A slave run ahead wakes when its output starts; without, it may also wake at a bound
+    // its run would have moved on (a block's start, an AT header reached only after the
+    // MDT's): the wakes may differ, nothing the ring does.
     assert_eq!(
         SimStats {
+            events: plain.stats.events,
             run_aheads: 0,
+            runs_past_output: 0,
+            ats_sent_on: 0,
             ..ahead.stats
         },
         plain.stats,
@@ -109,7 +175,7 @@ fn same_run(ring: &StaticRing, faults: &[Fault], until: Instant, what: &str) -> 
     for (k, (p, a)) in plain.steps.iter().zip(&ahead.steps).enumerate() {
         assert_eq!(p, a, "{what}: chips after step {k}");
     }
-    ahead.stats.run_aheads
+    ahead.stats
 }
 
 fn six_slaves() -> StaticRing {
@@ -122,13 +188,26 @@ fn six_slaves() -> StaticRing {
 
 #[test]
 fn an_intact_ring_runs_the_same_with_slaves_ahead() {
-    let n = same_run(&six_slaves(), &[], us(1600), "6 slaves");
-    // Two telegrams of the master (MST, MDT) per slave and cycle, from phase 4 on.
-    assert!(n >= 6 * 2 * 4, "the slaves ran ahead {n} times");
+    let (logged, quiet) = same_run(&six_slaves(), &[], us(1600), "6 slaves");
+    // Two telegrams of the master (MST, MDT) per slave and cycle, from phase 4 on; logged,
+    // each run stops before the telegram's end, quiet, each goes to the master's next one
+    // (past the slave's AT after the MDT).
+    for s in [logged, quiet] {
+        assert!(s.run_aheads >= 6 * 2 * 4, "the slaves ran ahead: {s:?}");
+    }
+    assert_eq!(logged.runs_past_output, 0);
+    assert!(quiet.runs_past_output >= 6 * 2 * 4, "{quiet:?}");
+    // Every AT of the steady cycles sent on right after the MDT (`early_route`).
+    assert_eq!(logged.ats_sent_on, 0);
+    assert!(quiet.ats_sent_on >= 6 * 4, "{quiet:?}");
     let mut long = StaticRing::new(20, 2000);
     long.bit_rate = sercos_wire::time::BitRate::Mbit4;
-    let n = same_run(&long, &[], us(10_000), "20 slaves at 4 Mbit/s");
-    assert!(n >= 20 * 2 * 3, "the slaves ran ahead {n} times");
+    let (logged, quiet) = same_run(&long, &[], us(10_000), "20 slaves at 4 Mbit/s");
+    for s in [logged, quiet] {
+        assert!(s.run_aheads >= 20 * 2 * 3, "the slaves ran ahead: {s:?}");
+    }
+    assert!(quiet.runs_past_output >= 20 * 2 * 3, "{quiet:?}");
+    assert!(quiet.ats_sent_on >= 20 * 3, "{quiet:?}");
 }
 
 #[test]
@@ -194,15 +273,21 @@ fn faults_give_the_same_run_with_slaves_ahead() {
         ),
     ];
     for (what, f) in faults {
-        let n = same_run(&six_slaves(), &f, us(1600), what);
-        assert!(n > 0, "{what}: the slaves ran ahead");
+        let (logged, quiet) = same_run(&six_slaves(), &f, us(1600), what);
+        assert!(logged.run_aheads > 0, "{what}: the slaves ran ahead");
+        // A burst scheduled on the master's own fibre leaves it faulty for the whole run:
+        // the master's telegrams reach the slaves without their filler.
+        assert!(
+            quiet.runs_past_output > 0 || what == "burst",
+            "{what}: and past their output"
+        );
     }
 }
 
 #[test]
 fn nothing_runs_ahead_of_a_host_that_reads_its_chip() {
     let ring = six_slaves();
-    let polled = run(&ring, &[], true, true, us(1600));
+    let polled = run(&ring, &[], (true, true), Watch::Quiet, (STEP, us(1600)));
     assert_eq!(polled.stats.run_aheads, 0);
     assert!(polled.stats.deliveries > 0);
 }
@@ -271,5 +356,23 @@ proptest::proptest! {
             .map(|(kind, k, at, len)| any_fault(kind, k, at, len, slaves + 1))
             .collect();
         same_run(&ring, &faults, us(1500), "any ring");
+    }
+}
+
+// 410B §4.2.1 TRT: ATs set to start on top of one another (and of the MDT) overlap on the
+// ring; `early_route` sends ATs on in ring order only when each starts after the one before
+// has passed its repeater, so these go at their slaves' wakes. The run is the same with
+// the slaves ahead (and past their ATs) as without.
+#[test]
+fn overlapping_ats_are_sent_at_their_slaves_wakes() {
+    for trt in [5u16, 40] {
+        let mut ring = StaticRing::new(4, 250);
+        ring.mdt_words = 3;
+        ring.at_words = 3;
+        ring.fibre_m = 1;
+        ring.at_trt_override = Some(vec![trt; 6]);
+        let (_, quiet) = same_run(&ring, &[], us(1500), "overlapping ATs");
+        assert!(quiet.runs_past_output > 0, "{quiet:?}");
+        assert_eq!(quiet.ats_sent_on, 0, "{quiet:?}");
     }
 }

@@ -1,0 +1,98 @@
+//! The slaves' ATs sent on right after the master's telegram that let every slave run past
+//! its own output (`Simulation::run_ahead`), rather than at one wake per slave.
+//!
+//! After the master's last telegram of a cycle each slave of a ring of inert hosts runs up
+//! to the master's next telegram, through its own AT. Its AT then only waits in the chip for
+//! the simulation's time to reach its start; nothing can change it (the chip is past its
+//! start, an own telegram is cut only by a reset or a power-off, and no fault comes before
+//! the run's limit). Taken at once, in ring order, it meets what it would meet at its time
+//! when:
+//!
+//! * every slave ran past its output in this same telegram's pass and has exactly that one
+//!   telegram queued (its filler implied): no other slave output falls between;
+//! * the slaves' ATs follow one another around the ring (each starts after the one before
+//!   has passed its repeater, 410B §4.2.1 TRT): at every repeater the copies and its own AT
+//!   come in the order of their times, as they would one wake after the other;
+//! * every slave repeats plainly and every fibre after the first slave is untraced, clean
+//!   and keeps nothing (`static_plain`, `plain_hop`): the ATs go to the master only, by sums
+//!   of delays (`Simulation::propagate`), and the master, on the simulation's clock, is
+//!   handed them in the order of their arrival, ahead of its own time, after the master's
+//!   telegram itself came back round.
+//!
+//! Otherwise each AT goes at its slave's wake, as before.
+
+use sercon_model::serial_port::REPEATER_LATENCY_BITS;
+use sercos_wire::time::{Duration, Instant};
+
+use super::Simulation;
+
+impl Simulation {
+    /// Sends on the ATs of the slaves that ran past them in the pass just made
+    /// (`deferred`), when every condition of the module's holds; forgets them otherwise
+    /// (each then goes at its slave's wake).
+    pub(super) fn route_deferred(&mut self) {
+        let mut deferred = std::mem::take(&mut self.deferred);
+        if self.deferred_in_order(&deferred) {
+            let mut out = std::mem::take(&mut self.buf);
+            for &j in &deferred {
+                let Some(node) = self.nodes.get_mut(j) else {
+                    continue;
+                };
+                let until = node.chip.now();
+                node.chip.take_line_output_until(until, &mut out);
+                for seg in out.drain(..) {
+                    self.route_output(j, seg);
+                }
+            }
+            self.buf = out;
+            self.stats.ats_sent_on += deferred.len() as u64;
+        }
+        deferred.clear();
+        self.deferred = deferred;
+    }
+
+    /// Whether the ATs of `deferred` may go now (the module's conditions).
+    fn deferred_in_order(&self, deferred: &[usize]) -> bool {
+        let n = self.nodes.len();
+        // Every slave, in ring order, each once.
+        if n < 2 || deferred.len() != n - 1 || !deferred.iter().copied().eq(1..n) {
+            return false;
+        }
+        // Plain repeaters from the first slave on, and a plain fibre into the master.
+        let into_master = n - 1;
+        let plain_into_master = self
+            .segments
+            .get(into_master)
+            .is_some_and(|s| s.faults.is_clean() && !s.keep_last)
+            && !self.recorder.wants(into_master);
+        if self.run_end.get(1) != Some(&n) || !plain_into_master {
+            return false;
+        }
+        let Some(master) = self.nodes.first() else {
+            return false;
+        };
+        if !master.powered || !master.off_windows.is_empty() || !master.clock.is_identity() {
+            return false;
+        }
+        let mut after: Option<Instant> = None;
+        for j in 1..n {
+            let Some(node) = self.nodes.get(j) else {
+                return false;
+            };
+            let Some((start, end, bit_time)) = node.chip.sole_queued_telegram() else {
+                return false;
+            };
+            // Its telegram is ahead of the simulation, and starts after the one before has
+            // passed this repeater (fibre delay plus the repeater latency of its bits).
+            if start <= self.now || after.is_some_and(|a| start < a) {
+                return false;
+            }
+            let hop = self.seg_delays.get(j).copied().unwrap_or(Duration::ZERO);
+            after = Some(
+                end.saturating_add(hop)
+                    .saturating_add(bit_time.saturating_mul(REPEATER_LATENCY_BITS)),
+            );
+        }
+        true
+    }
+}
