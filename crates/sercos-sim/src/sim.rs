@@ -156,6 +156,10 @@ pub struct Simulation {
     first_drifting: usize,
     /// Slaves run past their own output in the pass being made (`early_route`).
     deferred: Vec<usize>,
+    /// The master's next output for any input (`Chip::next_output_for_any_input`), found
+    /// once per pass of a telegram of the master (nothing reaches the master before the
+    /// pass's last hop).
+    master_next: Option<Option<Instant>>,
 }
 
 /// How a node's next wake is found.
@@ -340,6 +344,7 @@ impl Simulation {
             from_master,
             first_drifting: n,
             deferred: Vec::new(),
+            master_next: None,
         };
         sim.first_drifting = first_drifting(&sim.nodes);
         sim.start_hosts();
@@ -677,6 +682,9 @@ impl Simulation {
             return;
         }
         let n = self.nodes.len();
+        if origin == 0 {
+            self.master_next = None;
+        }
         let mut cur = from;
         let mut seg = seg;
         let mut enter = enter;
@@ -972,7 +980,7 @@ impl Simulation {
     /// and the repeater latency of the nodes in between at `bit_time`, the master's; 410B
     /// §1); `None` unless both are on the simulation's clock and `j`'s pins are not traced
     /// (its pin events would come ahead of the simulation's time).
-    fn master_horizon(&self, j: usize, bit_time: Duration) -> Option<Instant> {
+    fn master_horizon(&mut self, j: usize, bit_time: Duration) -> Option<Instant> {
         let master = self.nodes.first()?;
         let node = self.nodes.get(j)?;
         if !master.powered
@@ -982,7 +990,19 @@ impl Simulation {
         {
             return None;
         }
-        let out = master.chip.next_output_for_any_input()?;
+        let out = match self.master_next {
+            Some(out) => out,
+            None => {
+                let out = master.chip.next_output_for_any_input();
+                self.master_next = Some(out);
+                out
+            }
+        }?;
+        debug_assert_eq!(
+            Some(out),
+            self.nodes.first().and_then(|m| m.chip.next_output_for_any_input()),
+            "the master changed within a pass of its telegram"
+        );
         let repeaters = u64::try_from(j.saturating_sub(1)).ok()?;
         let latency = bit_time
             .saturating_mul(REPEATER_LATENCY_BITS)
