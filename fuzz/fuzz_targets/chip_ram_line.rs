@@ -6,7 +6,9 @@
 //! Input: byte 0 picks the variant, master/slave, tracing, implied filler, whether
 //! forwarded copies are released and whether an advance that stops before the output bound
 //! keeps it (`Chip::advance_before_output`, as a simulation running a slave ahead does;
-//! debug builds check every kept bound against a fresh walk); then 512 bytes of RAM image
+//! debug builds check every kept bound against a fresh walk); every advance also checks the
+//! promise for any line input (`Chip::next_output_for_any_input`) asked after the one before,
+//! across the line inputs in between; then 512 bytes of RAM image
 //! (256 words from word 0, the rest of the RAM filled by repeating them); then 4-byte
 //! records `op, a, b, c`: op % 4 = 0 write register a := bc, 1 line segment (kind a % 4,
 //! bit time from b, length from c, the following c bytes as bits / hint telegram),
@@ -49,7 +51,13 @@ fuzz_target!(|data: &[u8]| {
     let mut frames = Vec::new();
     let mut next_start = chip.now();
     let mut records = common::Records::new(body);
+    // The promise for any line input (`Chip::next_output_for_any_input`), as last asked after
+    // an advance: it holds across line inputs, not across bus accesses.
+    let mut any_input: Option<sercos_wire::time::Instant> = None;
     while let Some([op, a, b, c]) = records.next_record() {
+        if op % 4 == 0 || op % 4 == 3 {
+            any_input = None;
+        }
         match op % 4 {
             0 => chip.write_register(a, u16::from_be_bytes([b, c])),
             1 => {
@@ -109,7 +117,13 @@ fuzz_target!(|data: &[u8]| {
                         "output at {:?} before the promise {promise:?}",
                         seg.start
                     );
+                    assert!(
+                        any_input.is_none_or(|p| seg.start >= p),
+                        "output at {:?} before the promise for any input {any_input:?}",
+                        seg.start
+                    );
                 }
+                any_input = chip.next_output_for_any_input();
                 chip.drain_pin_events(&mut events);
                 chip.take_rx_frames(&mut frames);
                 out.clear();

@@ -445,14 +445,27 @@ impl Chip {
     /// (`telegram_processor::layout`): found once, kept until a host write to a word the
     /// walks read.
     pub(crate) fn layout_proof(&self) -> bool {
+        let memo = self.layout.get();
+        if let Some((proof, 0b11)) = memo {
+            // Both blocks' lists covered: whichever may run.
+            return proof;
+        }
         let blocks = crate::telegram_processor::possible_blocks(self);
-        if let Some((proof, proved)) = self.layout.get()
+        if let Some((proof, proved)) = memo
             && proved & blocks == blocks
         {
             return proof;
         }
-        let (proof, read) = crate::telegram_processor::prove_layout(self, blocks);
-        self.layout.set(Some((proof, blocks)));
+        // Both lists if they allow it (then no block the registers choose later needs a
+        // proof of its own), else those that may run now.
+        let (both, read) = crate::telegram_processor::prove_layout(self, 0b11);
+        let (proof, read, proved) = if both {
+            (true, read, 0b11)
+        } else {
+            let (proof, read) = crate::telegram_processor::prove_layout(self, blocks);
+            (proof, read, blocks)
+        };
+        self.layout.set(Some((proof, proved)));
         *self.layout_read.borrow_mut() = read;
         proof
     }

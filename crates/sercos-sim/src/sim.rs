@@ -1000,7 +1000,9 @@ impl Simulation {
         }?;
         debug_assert_eq!(
             Some(out),
-            self.nodes.first().and_then(|m| m.chip.next_output_for_any_input()),
+            self.nodes
+                .first()
+                .and_then(|m| m.chip.next_output_for_any_input()),
             "the master changed within a pass of its telegram"
         );
         let repeaters = u64::try_from(j.saturating_sub(1)).ok()?;
