@@ -279,6 +279,20 @@ fn master_with_a_header_ahead() -> (Chip, TxHeader) {
     (m, third)
 }
 
+/// The header at 37 of [`master_with_a_header_ahead`] with EN = 2, and AT 1's telegram
+/// (ADR 1) carrying it over that header (words little-endian, 410B §4.2.2 POS).
+fn at1_enabling(third: TxHeader) -> (TxHeader, Vec<u8>) {
+    let enabled = TxHeader {
+        en: TxEnable::Continuous,
+        ..third
+    };
+    let mut at1_bytes = vec![1u8];
+    for w in enabled.to_words(Variant::Sercon816) {
+        at1_bytes.extend_from_slice(&w.to_le_bytes());
+    }
+    (enabled, at1_bytes)
+}
+
 /// The master of [`master_with_a_header_ahead`] given its two ATs a µs before they start
 /// (15 and 35 µs after its MST), AT 1 carrying the header at 37 with EN = 2 (words
 /// little-endian, 410B §4.2.2 POS), advanced µs by µs to 120 µs, every segment checked
@@ -289,14 +303,7 @@ fn master_with_a_header_ahead() -> (Chip, TxHeader) {
 fn header_ahead_run(keep: bool) -> (Chip, Vec<Instant>, usize, u16) {
     let v = Variant::Sercon816;
     let (mut m, third) = master_with_a_header_ahead();
-    let enabled = TxHeader {
-        en: TxEnable::Continuous,
-        ..third
-    };
-    let mut at1_bytes = vec![1u8];
-    for w in enabled.to_words(v) {
-        at1_bytes.extend_from_slice(&w.to_le_bytes());
-    }
+    let (enabled, at1_bytes) = at1_enabling(third);
     let mut buf = Vec::new();
     let mut own = Vec::new();
     let mut mst_at = None;
@@ -503,14 +510,7 @@ fn master_with_ats_ahead(skip_third: bool) -> (Chip, Instant) {
     let v = Variant::Sercon816;
     let (mut m, third) = master_with_a_header_ahead();
     m.write_ram_words(50, &at2_header(skip_third).to_words(v));
-    let enabled = TxHeader {
-        en: TxEnable::Continuous,
-        ..third
-    };
-    let mut at1_bytes = vec![1u8];
-    for w in enabled.to_words(v) {
-        at1_bytes.extend_from_slice(&w.to_le_bytes());
-    }
+    let (_, at1_bytes) = at1_enabling(third);
     let mut buf = Vec::new();
     let mut mst_at = None;
     let mut t = Instant::ZERO;
