@@ -17,7 +17,11 @@
 //!   and keeps nothing (`static_plain`, `plain_hop`): the ATs go to the master only, by sums
 //!   of delays (`Simulation::propagate`), and the master, on the simulation's clock, is
 //!   handed them in the order of their arrival, ahead of its own time, after the master's
-//!   telegram itself came back round.
+//!   telegram itself came back round;
+//! * every AT starts before the master's next telegram can start (the promise the slaves ran
+//!   to): at its time it would have been sent before that telegram's pass put its copies
+//!   out at the repeaters, as it is now (after the MDT's pass that holds for every AT; after
+//!   the MST's only for ATs a slave's list puts before the MDT's receive header).
 //!
 //! Otherwise each AT goes at its slave's wake, as before.
 
@@ -74,6 +78,10 @@ impl Simulation {
         if !master.powered || !master.off_windows.is_empty() || !master.clock.is_identity() {
             return false;
         }
+        // The master's next output, as the pass promised it (`Simulation::master_horizon`).
+        let Some(next_master) = self.master_next else {
+            return false;
+        };
         let mut after: Option<Instant> = None;
         for j in 1..n {
             let Some(node) = self.nodes.get(j) else {
@@ -84,7 +92,10 @@ impl Simulation {
             };
             // Its telegram is ahead of the simulation, and starts after the one before has
             // passed this repeater (fibre delay plus the repeater latency of its bits).
-            if start <= self.now || after.is_some_and(|a| start < a) {
+            if start <= self.now
+                || after.is_some_and(|a| start < a)
+                || next_master.is_none_or(|m| start >= m)
+            {
                 return false;
             }
             let hop = self.seg_delays.get(j).copied().unwrap_or(Duration::ZERO);
