@@ -694,10 +694,9 @@ impl SerconBus for Chip {
         if let Some(word) = self.ram.get_mut(usize::from(address & mask)) {
             *word = value;
         }
-        // The layout proof stands unless a word the walks read changed.
-        if !self.layout.get().is_some_and(|(proof, _)| proof)
-            || self.layout_read.borrow().any(u32::from(address & mask), 1)
-        {
+        // The layout proof, made or refused, stands unless a word it read changed (a refusal
+        // was decided by the words read up to it).
+        if self.layout_read.borrow().any(u32::from(address & mask), 1) {
             self.layout.set(None);
         }
         // A header ahead may have changed: the output bound's remembered walks go (the

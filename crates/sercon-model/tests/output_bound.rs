@@ -595,9 +595,10 @@ fn a_list_its_own_writes_can_rewrite_is_promised_nothing_beyond_the_next_event()
     );
 }
 
-// A host write leaves the layout as it was unless it writes a word the walks read
-// (a header, a container control word, the pointer words): a data word keeps the promise,
-// AT 2's PT led back to the header under AT 1's container takes it.
+// A host write leaves the layout proof as it was, made or refused, unless it writes a word
+// the walks read (a header, a container control word, the pointer words): a data word keeps
+// the promise, AT 2's PT led back to the header under AT 1's container takes it, and led
+// away again gives it back.
 #[test]
 fn a_host_write_to_a_header_can_take_the_layout_proof_a_data_write_keeps() {
     let v = Variant::Sercon816;
@@ -613,4 +614,13 @@ fn a_host_write_to_a_header_can_take_the_layout_proof_a_data_write_keeps() {
         m.next_internal_event_at(),
         "AT 2's PT"
     );
+    // A refusal stands through a data write and falls with the header's write back.
+    m.write_ram(57, 0xCAFE);
+    assert_eq!(
+        m.next_output_bound(),
+        m.next_internal_event_at(),
+        "a data word"
+    );
+    m.write_ram_words(50, &at2_header(true).to_words(v));
+    assert_eq!(m.next_output_bound(), bound, "AT 2's PT back");
 }
