@@ -59,9 +59,9 @@ pub struct Chip {
     /// after every delivery; most deliveries then cost a load here instead of a walk.
     pub(crate) out_bound: std::cell::Cell<Option<Option<u64>>>,
     /// Whether the telegram processor's own writes leave its header lists as they are
-    /// (`telegram_processor::layout`), as last found (`None`: to be found); the bound above
-    /// is promised only then. A host write to a word the walks read drops it.
-    /// With the blocks whose lists it covers (bit n: block n).
+    /// (`telegram_processor::layout`), as last found, with the blocks whose lists it covers
+    /// (bit n: block n); `None`: to be found. The bound above is promised only then. A host
+    /// write to a word the proof read drops it.
     pub(crate) layout: std::cell::Cell<Option<(bool, u8)>>,
     /// The words the walks read, as the layout proof found them.
     pub(crate) layout_read: std::cell::RefCell<crate::telegram_processor::RamWords>,
@@ -427,13 +427,10 @@ impl Chip {
         }
         // 410B §4.1 0CH: the next cycle start sends the MST (the timing control's other
         // events in between only move pins).
-        let tick = match (
-            crate::telegram_processor::next_tx_bound(self),
-            self.engine.next_cycle_start(),
-        ) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        };
+        let tick = crate::telegram_processor::next_tx_bound(self)
+            .into_iter()
+            .chain(self.engine.next_cycle_start())
+            .min();
         let own = tick.map_or(Instant::MAX, |k| self.clock.instant(k));
         // What it has queued, but for the filler its last telegram implies (it sends
         // nothing, `Chip::set_implied_filler`).

@@ -73,17 +73,14 @@ impl Engine {
         }
     }
 
-    /// The next tick of the cycle machinery (pending start, plan entry, pulse end, end).
     /// The tick of the next cycle start (the running cycle's end, 410B §4.1 10H/12H TSCYC, or
-    /// a triggered start pending): no later than [`Engine::cycle_next_tick`]'s cycle events.
+    /// a triggered start pending): no earlier than [`Engine::cycle_next_tick`].
     pub(crate) fn next_cycle_start(&self) -> Option<u64> {
         let run_end = self.cycle.run.as_ref().map(|run| self.e_tick(run, run.len));
-        match (run_end, self.cycle.pending) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        run_end.into_iter().chain(self.cycle.pending).min()
     }
 
+    /// The next tick of the cycle machinery (pending start, plan entry, pulse end, end).
     pub(crate) fn cycle_next_tick(&self) -> Option<u64> {
         let run_tick = self.cycle.run.as_ref().map(|run| {
             let mut e = run.len;

@@ -299,6 +299,7 @@ impl Simulation {
                 fault_events.push((e.max(f.at), Ev::FaultEnd(i)));
             }
         }
+        let drifting = first_drifting(&nodes);
         let mut sim = Simulation {
             out_floors: OutFloors::new(
                 n,
@@ -342,11 +343,10 @@ impl Simulation {
             run_to: Instant::ZERO,
             plain_pass: None,
             from_master,
-            first_drifting: n,
+            first_drifting: drifting,
             deferred: Vec::new(),
             master_next: None,
         };
-        sim.first_drifting = first_drifting(&sim.nodes);
         sim.start_hosts();
         sim.settle();
         if let Some(e) = sim.held_error.take() {
@@ -953,6 +953,13 @@ impl Simulation {
     /// interrupt output or a pin can be seen (`Chip::next_output_bound`), come no earlier.
     /// The caller gives only slaves on the simulation's clock (`deliver`): then an instant
     /// before the limit is one before every later input in the chip's time too.
+    ///
+    /// When the telegram `past` carries its filler (its bit time given) and the master
+    /// promises its next output whatever it receives ([`Simulation::master_horizon`]), the
+    /// limit is that output's arrival here instead of the telegram's end and the node's
+    /// wake: the chip runs through its own output too, which waits in it until the
+    /// simulation's time reaches it (`route_outputs`) or is sent on with the other slaves'
+    /// (`early_route`). Returns whether it ran so.
     fn run_ahead(&mut self, j: usize, end: Instant, past: Option<Duration>) -> bool {
         let mut limit = self.run_to.saturating_add(Duration::from_picos(1));
         if let Some(f) = self.queue.peek_fault_time() {

@@ -80,8 +80,7 @@ impl Chip {
     /// [`Chip::now`] to the end of `out`. A segment lasts until the next one starts; see
     /// [`LineSegment`].
     pub fn take_line_output(&mut self, out: &mut Vec<LineSegment>) {
-        let now = self.now;
-        self.serial.take_output(now, out);
+        self.take_line_output_until(self.now, out);
     }
 
     /// [`Chip::take_line_output`] of the segments that start at or before `t` only (a chip
@@ -94,7 +93,7 @@ impl Chip {
     /// Whether [`Chip::take_line_output`] would hand anything over now (an output segment
     /// starts at or before [`Chip::now`]).
     pub fn line_output_due(&self) -> bool {
-        self.serial.output_due(self.now)
+        self.line_output_due_at(self.now)
     }
 
     /// The one own telegram the chip has queued, from its first bit to the end of its last,

@@ -36,7 +36,7 @@ impl Simulation {
     /// (each then goes at its slave's wake).
     pub(super) fn route_deferred(&mut self) {
         let mut deferred = std::mem::take(&mut self.deferred);
-        if self.deferred_in_order(&deferred) {
+        if self.deferred_may_go(&deferred) {
             let mut out = std::mem::take(&mut self.buf);
             for &j in &deferred {
                 let Some(node) = self.nodes.get_mut(j) else {
@@ -56,7 +56,7 @@ impl Simulation {
     }
 
     /// Whether the ATs of `deferred` may go now (the module's conditions).
-    fn deferred_in_order(&self, deferred: &[usize]) -> bool {
+    fn deferred_may_go(&self, deferred: &[usize]) -> bool {
         let n = self.nodes.len();
         // Every slave, in ring order, each once.
         if n < 2 || deferred.len() != n - 1 || !deferred.iter().copied().eq(1..n) {
