@@ -50,6 +50,12 @@ pub(crate) struct Node {
     pub(crate) repeating: bool,
     /// The pending wake event.
     pub(crate) wake: Option<Instant>,
+    /// The chip ran past its own output up to the master's next telegram since its wake
+    /// was last set (`Simulation::run_ahead`): the next wake set may be a placeholder.
+    pub(crate) ran_past: bool,
+    /// The pending wake is a placeholder at the chip's time (`Simulation::park`), not the
+    /// node's next wake: a delivery before it runs the chip ahead as if there were none.
+    pub(crate) parked: bool,
     /// Index in the VCD, if traced.
     pub(crate) vcd: Option<usize>,
     /// The host is running (or has not started yet): it is not woken again meanwhile.
@@ -81,6 +87,8 @@ impl Node {
             in_floor: Instant::ZERO,
             repeating: false,
             wake: None,
+            ran_past: false,
+            parked: false,
             vcd: None,
             host_busy: false,
         }

@@ -82,6 +82,9 @@ pub struct SimStats {
     /// Slave telegrams sent on right after the master's telegram that let every slave run
     /// past them, not at a wake of their own (`early_route`).
     pub ats_sent_on: u64,
+    /// Wakes set to a placeholder at the chip's time after a run past its output, rather
+    /// than found (`Simulation::park`).
+    pub parked_wakes: u64,
 }
 
 /// One segment (fibre, or the bus) as the simulation sees it.
@@ -437,6 +440,7 @@ impl Simulation {
             Ev::Node(j) => {
                 if let Some(node) = self.nodes.get_mut(j) {
                     node.wake = None;
+                    node.parked = false;
                 }
                 if self.wake_node(j, time)? {
                     // Served and rescheduled: one settle round is spent.
@@ -900,7 +904,8 @@ impl Simulation {
                 // Its wake is set once the event's nodes are served, after this input too.
                 return;
             }
-            if node.wake.is_some_and(|w| w <= start) {
+            // A parked node's wake is no wake of its own (`Simulation::park`).
+            if !node.parked && node.wake.is_some_and(|w| w <= start) {
                 debug_assert!(
                     self.next_wake(j).is_none_or(|w| {
                         w.is_none_or(|w| self.nodes.get(j).and_then(|n| n.wake) <= Some(w))
@@ -1038,6 +1043,7 @@ impl Simulation {
             self.stats.run_aheads += 1;
             if past_output {
                 node.chip.advance_to(to);
+                node.ran_past = true;
                 self.stats.runs_past_output += 1;
                 return true;
             }
@@ -1046,8 +1052,12 @@ impl Simulation {
         false
     }
 
-    /// Sets node `j`'s wake to [`Simulation::next_wake`].
+    /// Sets node `j`'s wake to [`Simulation::next_wake`], or parks it
+    /// ([`Simulation::park`]).
     fn set_wake(&mut self, j: usize) {
+        if self.park(j) {
+            return;
+        }
         let Some(wake) = self.next_wake(j) else {
             return;
         };
@@ -1059,6 +1069,47 @@ impl Simulation {
             Some(g) => self.queue.set(j, g),
             None => self.queue.remove(j),
         }
+    }
+
+    /// Parks node `j` when its chip ran past its own output since its wake was last set
+    /// (`Simulation::run_ahead`) and has nothing left to put out before its own time: its
+    /// wake is set to that time instead of being found (which walks the chip's headers,
+    /// `Chip::next_output_bound`). The chip is past every event up to its time, so any wake
+    /// it has comes no earlier: a wake there is early at worst, and only sets the next one.
+    /// It ran up to just before the master's next telegram can reach it, so on a ring that
+    /// runs as promised that telegram's delivery comes first, during the master's wake, and
+    /// runs the chip on (`deliver` takes a parked node's wake as none); then the wake is set
+    /// again, parked or found. Returns whether it parked the node.
+    fn park(&mut self, j: usize) -> bool {
+        let now = self.now;
+        let Some(node) = self.nodes.get_mut(j) else {
+            return false;
+        };
+        node.parked = false;
+        if !std::mem::take(&mut node.ran_past) || !node.powered || node.host_deadline.is_some() {
+            return false;
+        }
+        let at = node.chip.now();
+        // Output it still holds (its own telegram when not sent on with the others'): its
+        // wake is that output's start, which may lie before the chip's time.
+        if node
+            .chip
+            .next_line_output_except(std::iter::empty())
+            .is_some_and(|o| o < at)
+        {
+            return false;
+        }
+        let g = node.clock.to_global(at);
+        // A run cut by the end of `run_until` (not by the master's telegram): its wake would
+        // be served at that end for nothing.
+        if g <= now || g >= self.run_to {
+            return false;
+        }
+        node.wake = Some(g);
+        node.parked = true;
+        self.queue.set(j, g);
+        self.stats.parked_wakes += 1;
+        true
     }
 
     /// Node `j`'s next wake as [`Simulation::set_wake`] sets it; `None` when the pending
@@ -1131,6 +1182,7 @@ impl Simulation {
                 self.settle();
                 if let Some(n) = self.nodes.get_mut(node) {
                     n.powered = false;
+                    n.parked = false;
                     if n.wake.take().is_some() {
                         self.queue.remove(node);
                     }

@@ -165,6 +165,7 @@ fn same_run_stepped(
             run_aheads: 0,
             runs_past_output: 0,
             ats_sent_on: 0,
+            parked_wakes: 0,
             ..ahead.stats
         },
         plain.stats,
@@ -200,6 +201,10 @@ fn an_intact_ring_runs_the_same_with_slaves_ahead() {
     // Every AT of the steady cycles sent on right after the MDT (`early_route`).
     assert_eq!(logged.ats_sent_on, 0);
     assert!(quiet.ats_sent_on >= 6 * 4, "{quiet:?}");
+    // After each such run the slave's wake is parked at its chip's time (`park`) rather
+    // than found; the run is the same (above).
+    assert_eq!(logged.parked_wakes, 0);
+    assert!(quiet.parked_wakes >= 6 * 2 * 4, "{quiet:?}");
     let mut long = StaticRing::new(20, 2000);
     long.bit_rate = sercos_wire::time::BitRate::Mbit4;
     let (logged, quiet) = same_run(&long, &[], us(10_000), "20 slaves at 4 Mbit/s");
