@@ -198,7 +198,10 @@ impl Chip {
                         let fifo = self.tp.fifo.state();
                         let flags = self.engine.flags;
                         crate::telegram_processor::step(self, k);
-                        self.dma_changed(fifo, k);
+                        // Most steps leave the FIFOs alone, with no DMA pin traced: no call.
+                        if self.tp.fifo.state() != fifo || self.dma_pins_traced() {
+                            self.dma_changed(fifo, k);
+                        }
                         tp_next = crate::telegram_processor::next_tick(self);
                         // The engine's pin levels follow its interrupt flags, settings,
                         // timing outputs and watchdog. The processor reads the settings,
@@ -544,11 +547,16 @@ impl Chip {
         self.trace_dma_pins(tick);
     }
 
+    /// Whether DMAREQR or DMAREQT is traced.
+    fn dma_pins_traced(&self) -> bool {
+        self.traced.contains(Pin::DmaReqR) || self.traced.contains(Pin::DmaReqT)
+    }
+
     /// Pin events of DMAREQR / DMAREQT at MCLK tick `tick`, for the traced ones: the level in
     /// static mode, a pulse of one MCLK period in pulsed mode (410B §2 pins 38, 39, active
     /// high; §4.1 1H.14 DMAMODE; spec-notes "Pulsed DMA requests").
     fn trace_dma_pins(&mut self, tick: u64) {
-        if !self.traced.contains(Pin::DmaReqR) && !self.traced.contains(Pin::DmaReqT) {
+        if !self.dma_pins_traced() {
             // Nothing to record (the common case: asked after every processor event).
             return;
         }
