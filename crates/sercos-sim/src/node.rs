@@ -193,28 +193,27 @@ pub(crate) fn repeats(chip: &mut Chip) -> bool {
 }
 
 impl Node {
-    /// Puts `seg` (simulation time) on the output line. Like the transmitter (410B §1:
+    /// Puts `seg` (simulation time) on the output line, adjusting it in place. Like the transmitter (410B §1:
     /// regenerated signal), a telegram continues from the level the line is at (NRZI decodes
     /// an inverted telegram the same); an own steady signal starts from that level.
     /// `out_floor` is how far the node's output line is taken (simulation time; kept by
     /// the simulation in one dense table so that a forwarding hop touches nothing else).
-    pub(crate) fn put_out(
-        &mut self,
-        out_floor: &mut Instant,
-        mut seg: LineSegment,
-        own: bool,
-    ) -> LineSegment {
+    pub(crate) fn put_out(&mut self, out_floor: &mut Instant, seg: &mut LineSegment, own: bool) {
         seg.start = seg.start.max(*out_floor);
         if !self.track_levels {
             // Fast path: receivers take telegrams from the level they are at (see
             // `Simulation::deliver`), so the output's level need not be followed.
             *out_floor = seg.end().unwrap_or(seg.start);
-            return seg;
+            return;
         }
         if let Some(last) = &self.last_out {
             let level = last.level_at(seg.start);
             match seg.signal {
-                LineSignal::Bits(_) if seg.level_before != level => seg = seg.inverted(),
+                LineSignal::Bits(_) if seg.level_before != level => {
+                    let dark =
+                        LineSegment::steady(seg.start, seg.bit_time, LineSignal::Dark, false);
+                    *seg = std::mem::replace(seg, dark).inverted();
+                }
                 LineSignal::Bits(_) => {}
                 _ if own => seg.level_before = level,
                 _ => {}
@@ -222,6 +221,5 @@ impl Node {
         }
         *out_floor = seg.end().unwrap_or(seg.start);
         self.last_out = Some(seg.clone());
-        seg
     }
 }

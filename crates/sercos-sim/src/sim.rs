@@ -672,7 +672,7 @@ impl Simulation {
         let Some(mut floor) = self.out_floors.get(j) else {
             return;
         };
-        let g = node.put_out(&mut floor, g, origin == j);
+        node.put_out(&mut floor, &mut g, origin == j);
         self.out_floors.set(j, floor);
         self.floor_written(j);
         self.propagate(j, g, origin, true);
@@ -769,7 +769,7 @@ impl Simulation {
             let Some(mut floor) = self.out_floors.get(next) else {
                 return;
             };
-            seg = node.put_out(&mut floor, seg, false);
+            node.put_out(&mut floor, &mut seg, false);
             self.out_floors.set(next, floor);
             self.floor_written(next);
             cur = next;
