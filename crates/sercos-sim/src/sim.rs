@@ -645,7 +645,7 @@ impl Simulation {
     }
 
     /// A segment node `j`'s chip released (local time).
-    fn route_output(&mut self, j: usize, seg: LineSegment) {
+    fn route_output(&mut self, j: usize, mut seg: LineSegment) {
         let Some(node) = self.nodes.get_mut(j) else {
             return;
         };
@@ -667,20 +667,19 @@ impl Simulation {
             // chip's next own output, `Chip::next_line_output_except`).
             node.resume = seg.end().filter(|_| !seg.then_filler);
         }
-        let mut g = seg;
-        g.start = node.clock.to_global(g.start);
+        seg.start = node.clock.to_global(seg.start);
         let Some(mut floor) = self.out_floors.get(j) else {
             return;
         };
-        node.put_out(&mut floor, &mut g, origin == j);
+        node.put_out(&mut floor, &mut seg, origin == j);
         self.out_floors.set(j, floor);
         self.floor_written(j);
-        self.propagate(j, g, origin, true);
+        self.propagate(j, seg, origin, true);
     }
 
     /// Carries `seg` (simulation time, at the entrance of segment `from`) down the line.
     /// `enter`: apply the segment's break and faults (false for a break's own darkness).
-    fn propagate(&mut self, from: usize, seg: LineSegment, origin: usize, enter: bool) {
+    fn propagate(&mut self, from: usize, mut seg: LineSegment, origin: usize, enter: bool) {
         if matches!(self.topology, Topology::Bus { .. }) {
             self.propagate_bus(seg, origin);
             return;
@@ -690,7 +689,6 @@ impl Simulation {
             self.master_next = None;
         }
         let mut cur = from;
-        let mut seg = seg;
         let mut enter = enter;
         let fast = self.delivery == Delivery::Fast;
         // Fast path: a slave's telegram or filler goes to no slave (see below), so through
@@ -835,12 +833,12 @@ impl Simulation {
         }
     }
 
-    /// Hands `seg` (simulation time) to node `j`'s receiver.
-    fn deliver(&mut self, j: usize, seg: LineSegment, origin: usize, repeating: bool) {
+    /// Hands `local` (given in simulation time, taken to the node's time here) to node `j`'s
+    /// receiver.
+    fn deliver(&mut self, j: usize, mut local: LineSegment, origin: usize, repeating: bool) {
         let Some(node) = self.nodes.get_mut(j) else {
             return;
         };
-        let mut local = seg;
         local.start = node.clock.to_local(local.start);
         if local.start < node.in_floor {
             self.stats.out_of_order += 1;
