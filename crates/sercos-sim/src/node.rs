@@ -193,9 +193,10 @@ pub(crate) fn repeats(chip: &mut Chip) -> bool {
 }
 
 impl Node {
-    /// Puts `seg` (simulation time) on the output line, adjusting it in place. Like the transmitter (410B §1:
-    /// regenerated signal), a telegram continues from the level the line is at (NRZI decodes
-    /// an inverted telegram the same); an own steady signal starts from that level.
+    /// Puts `seg` (simulation time) on the output line, adjusting it in place. Like the
+    /// transmitter (410B §1: regenerated signal), a telegram continues from the level the
+    /// line is at (NRZI decodes an inverted telegram the same); an own steady signal starts
+    /// from that level.
     /// `out_floor` is how far the node's output line is taken (simulation time; kept by
     /// the simulation in one dense table so that a forwarding hop touches nothing else).
     pub(crate) fn put_out(&mut self, out_floor: &mut Instant, seg: &mut LineSegment, own: bool) {

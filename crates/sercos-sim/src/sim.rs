@@ -1321,7 +1321,6 @@ fn general_wake(node: &Node, lookahead: Lookahead, exact: bool) -> Option<Instan
     }
 }
 
-/// Node 0 is the master; everyone else a slave.
 /// The first slave whose clock is not the simulation's, or the node count.
 fn first_drifting(nodes: &[Node]) -> usize {
     nodes
@@ -1332,6 +1331,7 @@ fn first_drifting(nodes: &[Node]) -> usize {
         .map_or(nodes.len(), |(j, _)| j)
 }
 
+/// Node 0 is the master; everyone else a slave.
 fn origin_of(node: usize) -> Origin {
     if node == 0 {
         Origin::Master

@@ -45,6 +45,14 @@ struct Own {
     len: u64,
 }
 
+impl Own {
+    /// When its last bit ends.
+    fn end(&self) -> Instant {
+        self.start
+            .saturating_add(self.bit_time.saturating_mul(self.len))
+    }
+}
+
 /// The transmitter's timelines.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Transmitter {
@@ -123,14 +131,15 @@ impl Transmitter {
             return None;
         }
         let (telegram, len) = self.coded.lookup(telegram, presync);
-        let end = start.saturating_add(bit_time.saturating_mul(len));
-        self.own.push_back(Own {
+        let own = Own {
             start,
             bit_time,
             presync,
             telegram,
             len,
-        });
+        };
+        let end = own.end();
+        self.own.push_back(own);
         self.busy_until = end;
         self.next_release = self.compute_next_release();
         Some(Placed { start, end })
@@ -218,10 +227,7 @@ impl Transmitter {
             return None;
         }
         let own = self.own.front()?;
-        let end = own
-            .start
-            .saturating_add(own.bit_time.saturating_mul(own.len));
-        Some((own.start, end, own.bit_time))
+        Some((own.start, own.end(), own.bit_time))
     }
 
     /// Starts of the queued background segments that will be released as output
