@@ -491,6 +491,7 @@ impl Chip {
         self.traced = pins;
         self.serial_pins_traced =
             pins.contains(Pin::Idle) || pins.contains(Pin::TxD) || pins.contains(Pin::Reactn);
+        self.serial.set_pins_loud(self.serial_pins_traced);
     }
 
     /// The pins currently traced.

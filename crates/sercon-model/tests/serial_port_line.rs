@@ -227,6 +227,74 @@ fn idle_and_reactn_pin_events() {
     );
 }
 
+// 410B §2 IDLE / REACTN and §4.1 3H.14–15: with the pins untraced their changes are kept
+// as scheduled and read when asked for (spec-notes "Quiet pins"); what a read sees is the
+// same as with the pins traced, also across a trace switched on and off mid-run, with
+// telegrams received ahead of the chip's time and the slave sending its own.
+#[test]
+fn idle_and_reactn_levels_are_the_same_traced_or_not() {
+    let mut master = chip816(false);
+    let mut segs = Vec::new();
+    let mut ends = Vec::new();
+    for k in 0..12u64 {
+        let at = us(4 + 12 * k);
+        let bytes: &[u8] = if k % 3 == 0 { &MST } else { &MDT };
+        let end = master.transmit_telegram(at, bytes).expect("sent");
+        ends.push(end);
+        segs.extend(output_until(&mut master, end + Duration::from_nanos(300)));
+    }
+    let traced = PinSet::of(&[Pin::Idle, Pin::Reactn]);
+    // a: traced throughout; b: never; c: switched on and off along the way.
+    let mut a = chip816(false);
+    a.set_traced_pins(traced);
+    let mut b = chip816(false);
+    let mut c = chip816(false);
+    for chip in [&mut a, &mut b, &mut c] {
+        for s in &segs {
+            chip.line_input(s.clone());
+        }
+    }
+    // Own telegrams too (IDLE), queued ahead of the chips' time.
+    for chip in [&mut a, &mut b, &mut c] {
+        for k in 0..4u64 {
+            chip.transmit_telegram(us(10 + 30 * k), &MST).expect("sent");
+        }
+    }
+    let mut t = us(1);
+    let mut step = 0u32;
+    let mut lows = (0u32, 0u32);
+    while t < us(160) {
+        step += 1;
+        if step % 40 == 0 {
+            let on = c.traced_pins().is_empty();
+            c.set_traced_pins(if on { traced } else { PinSet::EMPTY });
+            // Read at once, before any advance: the levels stand across the switch.
+            for pin in [Pin::Idle, Pin::Reactn] {
+                assert_eq!(c.pin_level(pin), b.pin_level(pin), "{pin:?} switched");
+            }
+        }
+        let read = |chip: &mut Chip| {
+            chip.advance_to(t);
+            let mut out = Vec::new();
+            chip.take_line_output(&mut out);
+            (
+                chip.read_register(3) & (3 << 14),
+                chip.pin_level(Pin::Idle),
+                chip.pin_level(Pin::Reactn),
+            )
+        };
+        let want = read(&mut a);
+        assert_eq!(read(&mut b), want, "untraced at {t:?}");
+        assert_eq!(read(&mut c), want, "switched at {t:?}");
+        lows.0 += u32::from(!want.1);
+        lows.1 += u32::from(!want.2);
+        t += Duration::from_nanos(137);
+    }
+    // The walk saw both pins low and high.
+    assert!(lows.0 > 10 && lows.1 > 100, "{lows:?}");
+    assert!(step > 1000);
+}
+
 #[test]
 fn repeater_forwards_with_latency_and_substitutes_own_telegrams() {
     // 410B §1: slaves "regenerate and repeat their received data or send their own

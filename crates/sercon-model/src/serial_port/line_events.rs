@@ -3,12 +3,16 @@
 //!
 //! Two queues: the status bits (FIBBR, RDIST raise interrupts and drive L_ERRN, so the chip
 //! applies them in time order with its other events) and the pin levels (IDLE, REACTN,
-//! which nothing else depends on: unless those pins are traced, the chip applies them in
-//! bulk when its time has passed them, without an event-loop turn each).
+//! which nothing else depends on). While one of those pins is traced ("loud") their changes
+//! are kept in time order and applied one instant at a time; otherwise ("quiet") they are
+//! only appended as they are scheduled and read when a level is asked for
+//! ([`LineEvents::quiet_level`]): four of them per telegram, and mostly nobody asks.
 
 use std::collections::VecDeque;
 
 use sercos_wire::time::Instant;
+
+use super::quiet_pins::{PinLine, QuietPins};
 
 /// One scheduled change of a line status.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,6 +54,11 @@ pub(crate) struct LineEvents {
     /// change of the queues: the chip asks for them on every advance, so they are loads, not
     /// queue fronts.
     fronts: (Option<Instant>, Option<Instant>),
+    /// IDLE / REACTN changes are kept in time order in `pins` (a serial-port pin is
+    /// traced); otherwise in `quiet`.
+    pins_loud: bool,
+    /// IDLE and REACTN changes while the pins are quiet.
+    quiet: QuietPins,
 }
 
 /// Inserts `(at, change)` into the time-ordered `queue`, after the entries at `at`.
@@ -76,6 +85,10 @@ impl LineEvents {
     /// nothing and only wake the chip (one is scheduled for every received segment).
     pub(crate) fn push(&mut self, at: Instant, change: Change) {
         if change.is_pin_level() {
+            if !self.pins_loud {
+                self.quiet.push(at, change);
+                return;
+            }
             insert(&mut self.pins, at, change);
             self.fronts.1 = Some(self.fronts.1.map_or(at, |f| f.min(at)));
             return;
@@ -170,7 +183,46 @@ impl LineEvents {
     pub(crate) fn cancel_receive_from(&mut self, t: Instant) {
         self.status.retain(|(at, c)| *at < t || !c.is_receive());
         self.pins.retain(|(at, c)| *at < t || !c.is_receive());
+        self.quiet.cancel_receive_from(t);
         self.fronts = self.compute_fronts();
+    }
+
+    /// Whether IDLE / REACTN changes are kept in time order (a serial-port pin is traced).
+    pub(crate) fn pins_loud(&self) -> bool {
+        self.pins_loud
+    }
+
+    /// The level of `pin` while the pins are quiet (`QuietPins::level`).
+    pub(crate) fn quiet_level(&self, pin: PinLine, base: bool) -> bool {
+        self.quiet.level(pin, base)
+    }
+
+    /// The instant the pin levels are applied to moves on to `t` (`QuietPins::apply`).
+    pub(crate) fn apply_quiet_pins(&mut self, t: Instant, levels: &mut (bool, bool)) {
+        self.quiet.apply(t, levels);
+    }
+
+    /// Keeps IDLE / REACTN changes in time order from now on (`loud`) or not; `levels`
+    /// (IDLE, REACTN) are then the levels as applied, with every kept change after them.
+    pub(crate) fn set_pins_loud(&mut self, loud: bool, levels: &mut (bool, bool)) {
+        if loud == self.pins_loud {
+            return;
+        }
+        if loud {
+            self.pins_loud = true;
+            // In the order they were scheduled: the queue keeps that order within an instant.
+            for (at, change) in self.quiet.take_pending(levels) {
+                self.push(at, change);
+            }
+        } else {
+            // The queue holds only changes after the applied instant (applied in time order
+            // up to it).
+            self.pins_loud = false;
+            for (at, change) in self.pins.drain(..) {
+                self.quiet.push(at, change);
+            }
+            self.fronts = self.compute_fronts();
+        }
     }
 
     /// Number of scheduled FIBBR / RDIST changes.
@@ -228,6 +280,89 @@ mod tests {
                 want.insert(idx, (at, change));
             }
             assert_eq!(q.iter().copied().collect::<Vec<_>>(), want, "round {round}");
+        }
+    }
+
+    /// Applies the loud queue's pin changes up to `upto`, as `SerialPort::apply_pin_levels`.
+    fn apply_loud(ev: &mut LineEvents, upto: Instant, levels: &mut (bool, bool)) {
+        while let Some((_, change)) = ev.pop_pin_until(upto) {
+            match change {
+                Change::Idle(l) => levels.0 = l,
+                Change::Reactn(l) => levels.1 = l,
+                _ => {}
+            }
+        }
+    }
+
+    // The quiet pins (changes kept as scheduled, read when asked for) give the levels the
+    // time-ordered queue gives, changes of one instant in the order they were scheduled
+    // (410B §2 IDLE, REACTN), whatever the order of scheduling, trims, cancels (a
+    // collision, `cancel_receive_from`) and switches between the two ways.
+    #[test]
+    fn quiet_pin_levels_follow_the_time_ordered_queue() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for round in 0..400 {
+            let mut loud = LineEvents {
+                pins_loud: true,
+                ..LineEvents::default()
+            };
+            let mut quiet = LineEvents::default();
+            let (mut loud_levels, mut quiet_levels) = ((true, true), (true, true));
+            let mut upto = 0u64;
+            for step in 0..60 {
+                match next() % 8 {
+                    0 => {
+                        // Time goes on.
+                        upto += next() % 5;
+                        let t = Instant::from_picos(upto);
+                        apply_loud(&mut loud, t, &mut loud_levels);
+                        quiet.apply_quiet_pins(t, &mut quiet_levels);
+                    }
+                    1 => {
+                        // A collision cuts what the receiver scheduled.
+                        let t = Instant::from_picos((upto + next() % 6).saturating_sub(2));
+                        loud.cancel_receive_from(t);
+                        quiet.cancel_receive_from(t);
+                        if step % 2 == 0 {
+                            loud.push(t, Change::Reactn(true));
+                            quiet.push(t, Change::Reactn(true));
+                        }
+                    }
+                    2 if round % 3 == 0 => {
+                        // The quiet one turns loud and back (a trace switched on and off).
+                        quiet.set_pins_loud(true, &mut quiet_levels);
+                        quiet.set_pins_loud(false, &mut quiet_levels);
+                    }
+                    _ => {
+                        // Mostly ahead of the applied instant, sometimes out of order,
+                        // now and then before it (a late input).
+                        let at = Instant::from_picos((upto + next() % 9).saturating_sub(2));
+                        let change = match next() % 4 {
+                            0 => Change::Idle(false),
+                            1 => Change::Idle(true),
+                            2 => Change::Reactn(false),
+                            _ => Change::Reactn(true),
+                        };
+                        loud.push(at, change);
+                        quiet.push(at, change);
+                    }
+                }
+                // Levels are read with the changes up to the chip's time applied (the
+                // port applies them at the end of every advance and line input).
+                let t = Instant::from_picos(upto);
+                apply_loud(&mut loud, t, &mut loud_levels);
+                let got = (
+                    quiet.quiet_level(PinLine::Idle, quiet_levels.0),
+                    quiet.quiet_level(PinLine::Reactn, quiet_levels.1),
+                );
+                assert_eq!(got, loud_levels, "round {round} step {step}");
+            }
         }
     }
 }

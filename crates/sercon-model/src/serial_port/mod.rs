@@ -8,6 +8,7 @@ mod coded_frames;
 mod line_events;
 mod line_interface;
 mod port_config;
+mod quiet_pins;
 mod receiver;
 mod rx_log;
 mod segment;
@@ -21,6 +22,7 @@ pub use segment::{FrameHint, LineSegment, LineSignal, Shared};
 
 use line_events::{Change, LineEvents};
 use port_config::{PortConfig, TxMode};
+use quiet_pins::PinLine;
 use receiver::{Receiver, Sinks};
 use transmitter::Transmitter;
 
@@ -80,9 +82,10 @@ pub(crate) struct SerialPort {
     events: LineEvents,
     /// The receive log (the newest [`RX_LOG_FRAMES`]).
     rx_log: rx_log::RxLog,
-    /// Level at pin IDLE (410B §2, active low).
+    /// Level at pin IDLE (410B §2, active low); while the pins are quiet, before the
+    /// changes `events` keeps (`LineEvents::quiet_level`).
     idle: bool,
-    /// Level at pin REACTN (410B §2, active low).
+    /// Level at pin REACTN (410B §2, active low), as `idle`.
     reactn: bool,
     /// 410B §4.1 2H.13 FIBBR.
     fibbr: bool,
@@ -313,6 +316,11 @@ impl SerialPort {
 
     /// Applies the IDLE / REACTN changes at or before `t` (pin levels only).
     pub(crate) fn apply_pin_levels(&mut self, t: Instant) {
+        // Quiet: the changes up to `t` count from now on (`SerialPort::idle`).
+        self.apply_quiet_pins(t);
+        if !self.events.pins_loud() {
+            return;
+        }
         while let Some((_, change)) = self.events.pop_pin_until(t) {
             // `if let`s, not a `match` (a jump table, whose indirect jump mispredicts as
             // REACTN and IDLE changes alternate; docs/performance.md, session 5). Only
@@ -347,6 +355,8 @@ impl SerialPort {
             self.next_loud_event_at(false)
         };
         let at = next.filter(|a| *a <= t)?;
+        // Quiet IDLE / REACTN changes up to `at` count from here on, as the loud ones below.
+        self.apply_quiet_pins(at);
         let mut applied = Applied {
             fibbr_rose: false,
             rdist_rose: false,
@@ -373,14 +383,40 @@ impl SerialPort {
         Some((at, applied))
     }
 
+    /// The quiet IDLE / REACTN changes up to `t` count from now on
+    /// (`LineEvents::apply_quiet_pins`; loud ones are applied in time order).
+    fn apply_quiet_pins(&mut self, t: Instant) {
+        let mut levels = (self.idle, self.reactn);
+        self.events.apply_quiet_pins(t, &mut levels);
+        (self.idle, self.reactn) = levels;
+    }
+
     /// Level at pin IDLE.
     pub(crate) fn idle(&self) -> bool {
-        self.idle
+        self.pin_level(PinLine::Idle, self.idle)
     }
 
     /// Level at pin REACTN.
     pub(crate) fn reactn(&self) -> bool {
-        self.reactn
+        self.pin_level(PinLine::Reactn, self.reactn)
+    }
+
+    /// The level of `pin` (`applied`: its level as last applied).
+    fn pin_level(&self, pin: PinLine, applied: bool) -> bool {
+        if self.events.pins_loud() {
+            applied
+        } else {
+            self.events.quiet_level(pin, applied)
+        }
+    }
+
+    /// Keeps IDLE / REACTN changes in time order, to be applied one instant at a time
+    /// (`loud`: one of the pins IDLE, TxD, REACTN is traced), or only as their levels are
+    /// asked for.
+    pub(crate) fn set_pins_loud(&mut self, loud: bool) {
+        let mut levels = (self.idle, self.reactn);
+        self.events.set_pins_loud(loud, &mut levels);
+        (self.idle, self.reactn) = levels;
     }
 
     /// 410B §4.1 2H.13 FIBBR.

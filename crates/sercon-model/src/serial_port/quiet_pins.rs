@@ -1,0 +1,179 @@
+//! IDLE and REACTN level changes while neither pin is traced (410B §2 IDLE, REACTN; §4.1
+//! 3H.14–15): kept in the order they were scheduled, not in time order, and read only when a
+//! level is asked for (spec-notes "Quiet pins"). Two changes per telegram, and mostly nobody
+//! asks: appending them costs less than keeping them sorted and applying them one by one.
+
+use sercos_wire::time::Instant;
+
+use super::line_events::Change;
+
+/// The shortest list that is trimmed (a telegram schedules two changes).
+const MIN_TRIM_LEN: usize = 16;
+
+/// Which pin a level change is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum PinLine {
+    /// IDLE (410B §2).
+    Idle,
+    /// REACTN (410B §2).
+    Reactn,
+}
+
+impl PinLine {
+    /// The level `change` sets on this pin, if it is a change of this pin.
+    fn level(self, change: Change) -> Option<bool> {
+        match (self, change) {
+            (PinLine::Idle, Change::Idle(l)) | (PinLine::Reactn, Change::Reactn(l)) => Some(l),
+            _ => None,
+        }
+    }
+}
+
+/// Quiet IDLE / REACTN changes. The changes up to `applied` (the instant the port has applied
+/// its pin levels to) count, the later ones wait; the levels before every change kept are
+/// the caller's (`base`, `levels`).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct QuietPins {
+    /// The changes in the order they were scheduled.
+    changes: Vec<(Instant, Change)>,
+    /// Length at which `changes` is trimmed next.
+    trim_len: usize,
+    /// The latest instant in `changes` (or later).
+    max: Instant,
+    /// The instant of the last IDLE and the last REACTN change put in.
+    last: (Option<Instant>, Option<Instant>),
+    /// Some pin's changes may not be in time order (else the latest one at or before an
+    /// instant is the last such one in the list).
+    unsorted: bool,
+    /// The instant the pin levels are applied to.
+    applied: Instant,
+}
+
+impl QuietPins {
+    /// Keeps a change. One scheduled before the applied instant counts from that instant,
+    /// after the changes applied (as a time-ordered queue applies it with its next
+    /// application, after those it applied before).
+    pub(crate) fn push(&mut self, at: Instant, change: Change) {
+        let at = at.max(self.applied);
+        let last = if matches!(change, Change::Idle(_)) {
+            &mut self.last.0
+        } else {
+            &mut self.last.1
+        };
+        self.unsorted |= last.is_some_and(|l| at < l);
+        *last = Some(at);
+        self.max = self.max.max(at);
+        self.changes.push((at, change));
+    }
+
+    /// The level of `pin`: its change latest in time at or before the applied instant (of
+    /// several at one instant, the last scheduled, as a time-ordered queue would apply
+    /// them), else `base`.
+    pub(crate) fn level(&self, pin: PinLine, base: bool) -> bool {
+        self.level_at(pin, base, self.applied)
+    }
+
+    fn level_at(&self, pin: PinLine, base: bool, upto: Instant) -> bool {
+        if !self.unsorted {
+            // Each pin's changes in time order: its latest one at or before `upto` is the
+            // last such one (of several at one instant, the last scheduled).
+            return self
+                .changes
+                .iter()
+                .rev()
+                .find_map(|&(at, change)| pin.level(change).filter(|_| at <= upto))
+                .unwrap_or(base);
+        }
+        let mut latest: Option<(Instant, bool)> = None;
+        for &(at, change) in &self.changes {
+            if let Some(level) = pin.level(change)
+                && at <= upto
+                && latest.is_none_or(|(t, _)| at >= t)
+            {
+                latest = Some((at, level));
+            }
+        }
+        latest.map_or(base, |(_, level)| level)
+    }
+
+    /// The changes up to `t` count from now on; once the list has grown long, those are
+    /// folded into `levels` (IDLE, REACTN before every change kept) and dropped.
+    pub(crate) fn apply(&mut self, t: Instant, levels: &mut (bool, bool)) {
+        self.applied = self.applied.max(t);
+        if self.changes.len() < self.trim_len.max(MIN_TRIM_LEN) {
+            return;
+        }
+        self.fold(levels);
+        self.trim_len = 2 * self.changes.len();
+    }
+
+    /// Folds the changes up to the applied instant into `levels` and drops them.
+    fn fold(&mut self, levels: &mut (bool, bool)) {
+        let upto = self.applied;
+        if !self.unsorted {
+            levels.0 = self.level_at(PinLine::Idle, levels.0, upto);
+            levels.1 = self.level_at(PinLine::Reactn, levels.1, upto);
+            if self.max <= upto {
+                // Every change read (the usual case).
+                self.changes.clear();
+            } else {
+                self.changes.retain(|(at, _)| *at > upto);
+            }
+            return;
+        }
+        // One pass for both pins.
+        let (mut idle_at, mut reactn_at) = (None::<Instant>, None::<Instant>);
+        self.changes.retain(|&(at, change)| {
+            if at > upto {
+                return true;
+            }
+            match change {
+                Change::Idle(l) if idle_at.is_none_or(|t| at >= t) => {
+                    idle_at = Some(at);
+                    levels.0 = l;
+                }
+                Change::Reactn(l) if reactn_at.is_none_or(|t| at >= t) => {
+                    reactn_at = Some(at);
+                    levels.1 = l;
+                }
+                _ => {}
+            }
+            false
+        });
+        // Whether what is left is in time order again, pin by pin.
+        let mut last: (Option<Instant>, Option<Instant>) = (None, None);
+        let mut unsorted = false;
+        for &(at, change) in &self.changes {
+            let l = if matches!(change, Change::Idle(_)) {
+                &mut last.0
+            } else {
+                &mut last.1
+            };
+            unsorted |= l.is_some_and(|l| at < l);
+            *l = Some(at);
+        }
+        self.unsorted = unsorted;
+        self.last = last;
+    }
+
+    /// Drops the receiver's changes at or after `t` that are not applied yet (a collision
+    /// cut the signal they came from; a time-ordered queue no longer holds applied ones).
+    pub(crate) fn cancel_receive_from(&mut self, t: Instant) {
+        let applied = self.applied;
+        self.changes
+            .retain(|(at, c)| *at < t || *at <= applied || !c.is_receive());
+    }
+
+    /// Folds the applied changes into `levels` and hands over the rest, in the order they
+    /// were scheduled (for a time-ordered queue, when a pin gets traced).
+    pub(crate) fn take_pending(
+        &mut self,
+        levels: &mut (bool, bool),
+    ) -> std::vec::IntoIter<(Instant, Change)> {
+        self.fold(levels);
+        self.last = (None, None);
+        self.unsorted = false;
+        self.max = self.applied;
+        std::mem::take(&mut self.changes).into_iter()
+    }
+}
