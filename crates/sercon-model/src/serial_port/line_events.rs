@@ -54,6 +54,9 @@ pub(crate) struct LineEvents {
     /// change of the queues: the chip asks for them on every advance, so they are loads, not
     /// queue fronts.
     fronts: (Option<Instant>, Option<Instant>),
+    /// The last RDIST change in `status` (the latest), if any: what a new RDIST change is
+    /// compared with (one is scheduled for every received segment).
+    rdist_last: Option<(Instant, bool)>,
     /// IDLE / REACTN changes are kept in time order in `pins` (a serial-port pin is
     /// traced); otherwise in `quiet`.
     pins_loud: bool,
@@ -99,8 +102,23 @@ impl LineEvents {
             return;
         }
         insert(&mut self.status, at, change);
+        if let Change::Rdist(v) = change
+            && self.rdist_last.is_none_or(|(t, _)| t <= at)
+        {
+            // Inserted after every entry at or before `at`: the last RDIST change.
+            self.rdist_last = Some((at, v));
+        }
         self.fronts.0 = Some(self.fronts.0.map_or(at, |f| f.min(at)));
         debug_assert_eq!(self.fronts, self.compute_fronts());
+        debug_assert_eq!(self.rdist_last, self.compute_rdist_last());
+    }
+
+    /// `rdist_last` from the queue.
+    fn compute_rdist_last(&self) -> Option<(Instant, bool)> {
+        self.status.iter().rev().find_map(|(t, c)| match c {
+            Change::Rdist(v) => Some((*t, *v)),
+            _ => None,
+        })
     }
 
     /// `fronts` from the queues.
@@ -132,12 +150,11 @@ impl LineEvents {
     /// The RDIST value after every scheduled change, when no RDIST change is scheduled
     /// after `at` (`None` otherwise).
     fn rdist_at_end_if_last(&self, at: Instant) -> Option<bool> {
-        for (t, c) in self.status.iter().rev() {
-            if let Change::Rdist(v) = c {
-                return (*t <= at).then_some(*v);
-            }
+        debug_assert_eq!(self.rdist_last, self.compute_rdist_last());
+        match self.rdist_last {
+            Some((t, v)) => (t <= at).then_some(v),
+            None => Some(self.rdist_now),
         }
-        Some(self.rdist_now)
     }
 
     /// Removes and returns the earliest change if it is at or before `t` (status changes
@@ -157,6 +174,8 @@ impl LineEvents {
         };
         if let Some((_, Change::Rdist(v))) = next {
             self.rdist_now = v;
+            // Popped from the front: the last one only when it was the only one.
+            self.rdist_last = self.compute_rdist_last();
         }
         next
     }
@@ -185,6 +204,7 @@ impl LineEvents {
         self.pins.retain(|(at, c)| *at < t || !c.is_receive());
         self.quiet.cancel_receive_from(t);
         self.fronts = self.compute_fronts();
+        self.rdist_last = self.compute_rdist_last();
     }
 
     /// Whether IDLE / REACTN changes are kept in time order (a serial-port pin is traced).
@@ -236,6 +256,7 @@ impl LineEvents {
         if let Some(i) = self.status.iter().rposition(|e| *e == entry) {
             self.status.remove(i);
             self.fronts = self.compute_fronts();
+            self.rdist_last = self.compute_rdist_last();
         }
     }
 
