@@ -703,7 +703,8 @@ impl Simulation {
             if passes {
                 self.pass_plain(&mut cur, &mut seg);
             }
-            let next = (cur + 1) % n;
+            // The next node round the ring (no division: this runs at every hop).
+            let next = if cur + 1 >= n { 0 } else { cur + 1 };
             if seg.then_filler && enter && self.splits_filler(cur) {
                 // The fibre's faults or traces take the telegram and its filler apart.
                 let (bits, filler) = seg.split_filler();
