@@ -240,7 +240,7 @@ impl SerialPort {
 
     /// The receive line's light level at `t` as the last segment received decides it.
     pub(crate) fn received_level_at(&self, t: Instant) -> Option<bool> {
-        self.rx.last_segment().map(|s| s.level_at(t))
+        self.rx.level_at(t)
     }
 
     /// Whether the repeater's copies of the received signal are released as output

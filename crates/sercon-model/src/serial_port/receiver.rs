@@ -3,6 +3,8 @@
 //! 1H.12 RXDNRZ, 2H.12 RDIST, 2H.13 FIBBR).
 
 use sercos_wire::line::{Coding, Decoded, Decoder, LineConfig, LineError, Polarity};
+use std::cell::Cell;
+
 use sercos_wire::time::{Duration, Instant};
 
 use super::line_events::{Change, LineEvents};
@@ -31,6 +33,10 @@ struct Running {
 pub(crate) struct Receiver {
     /// The last segment received (the line's signal from its start on).
     last: Option<LineSegment>,
+    /// The level `last` gives at an instant, as last asked for (`Receiver::level_at`): a
+    /// simulation asks for the level at the start of the segment it is about to hand over,
+    /// and taking that segment needs it again. Cleared whenever `last` changes.
+    level_memo: Cell<Option<(Instant, bool)>>,
     /// Boxed: an implied filler sets it aside and back (a pointer, not the decoder).
     running: Option<Box<Running>>,
     /// FIBBR rises here unless an edge comes first.
@@ -84,6 +90,19 @@ impl Receiver {
     /// The last segment received.
     pub(crate) fn last_segment(&self) -> Option<&LineSegment> {
         self.last.as_ref()
+    }
+
+    /// The receive line's light level at `t` as the last segment received decides it
+    /// (`None` before any), remembered for taking a segment that starts at `t`.
+    pub(crate) fn level_at(&self, t: Instant) -> Option<bool> {
+        if let Some((at, level)) = self.level_memo.get()
+            && at == t
+        {
+            return Some(level);
+        }
+        let level = self.last.as_ref()?.level_at(t);
+        self.level_memo.set(Some((t, level)));
+        Some(level)
     }
 
     /// The FIBBR deadline has passed without an edge: FIBBR is now set.
@@ -146,6 +165,7 @@ impl Receiver {
             self.open_filler = false;
             if let Some(last) = self.last.as_mut() {
                 last.then_filler = false;
+                self.level_memo.set(None);
             }
         }
         let implied = seg.then_filler && matches!(seg.signal, LineSignal::Bits(_));
@@ -207,7 +227,7 @@ impl Receiver {
     ) {
         let own_bt = cfg.bit_time.unwrap_or(seg.bit_time);
         self.timeout = own_bt.saturating_mul(FIBBR_BIT_TIMES);
-        let prev_level = self.last.as_ref().is_some_and(|l| l.level_at(seg.start));
+        let prev_level = self.level_at(seg.start).unwrap_or(false);
         if let Some(end) = self.last.as_ref().and_then(LineSegment::end)
             && end > seg.start
         {
@@ -317,6 +337,7 @@ impl Receiver {
             }
         }
         self.last = Some(seg);
+        self.level_memo.set(None);
     }
 
     /// Reports the edges of an explicit bit segment.
