@@ -266,14 +266,19 @@ fn one_segment_per_telegram_with_the_same_levels() {
 /// A receiver given `bits` (from `t0`) with an implied filler, then `next` at `gap_bits`
 /// bit times after their end (0 or less: the filler had no time), advanced to `mid` in
 /// between, against one given the explicit filler (when it has time to start).
-fn receiver_case(bits: &[bool], gap_bits: i64, mid_bits: u64, next_kind: u8) {
+fn receiver_case(bits: &[bool], gap_bits: i64, mid_bits: u64, next_kind: u8, distorted: bool) {
     let bt = Duration::from_nanos(62) + Duration::from_picos(500);
     let t0 = Instant::ZERO + Duration::from_micros(3);
     let mut v = BitVec::new();
     for b in bits {
         v.push(*b);
     }
-    let seg = LineSegment::bits(t0, bt, v, false);
+    // A distorted segment (a fault injector's RDIST, 410B §4.1 2H.12) makes its filler
+    // schedule an RDIST change of its own.
+    let seg = LineSegment {
+        distorted,
+        ..LineSegment::bits(t0, bt, v, false)
+    };
     let end = seg.end().unwrap_or(t0);
     let next_at = Instant::from_picos(
         end.as_picos()
@@ -318,11 +323,22 @@ fn receiver_case(bits: &[bool], gap_bits: i64, mid_bits: u64, next_kind: u8) {
         implied.next_internal_event_at(),
         "after the input"
     );
+    // Along the way too: what the filler scheduled and the next segment took back (or
+    // not) shows between them and the next FIBBR rise.
     let until = next_at + Duration::from_micros(10);
-    for c in [&mut explicit, &mut implied] {
-        c.advance_to(until);
+    let mut checks: Vec<Instant> = [1u64, 8, 33, 40]
+        .iter()
+        .map(|k| end + bt.saturating_mul(*k))
+        .chain([next_at, until])
+        .filter(|t| *t >= next_at)
+        .collect();
+    checks.sort();
+    for t in checks {
+        for c in [&mut explicit, &mut implied] {
+            c.advance_to(t);
+        }
+        assert_eq!(state(&mut explicit), state(&mut implied), "at {t:?}");
     }
-    assert_eq!(state(&mut explicit), state(&mut implied), "at the end");
 }
 
 proptest! {
@@ -336,8 +352,9 @@ proptest! {
         gap_bits in -20i64..20,
         mid_bits in 0u64..200,
         next_kind in 0u8..3,
+        distorted in any::<bool>(),
     ) {
-        receiver_case(&bits, gap_bits, mid_bits, next_kind);
+        receiver_case(&bits, gap_bits, mid_bits, next_kind, distorted);
     }
 }
 
@@ -345,9 +362,15 @@ proptest! {
 fn an_edgeless_tail_raises_fibbr_with_or_without_the_filler() {
     // 100 bit times of light, the FIBBR deadline passes inside them; the next segment at
     // the bits' end, after the receiver has passed the deadline.
-    receiver_case(&[true; 100], 0, 90, 1);
-    receiver_case(&[true; 100], -10, 80, 0);
-    receiver_case(&[true; 100], 5, 95, 2);
+    receiver_case(&[true; 100], 0, 90, 1, false);
+    receiver_case(&[true; 100], -10, 80, 0, false);
+    receiver_case(&[true; 100], 5, 95, 2, false);
+    // The next segment keeps the light on (no edge of its own): the filler's FIBBR fall,
+    // taken back, must not happen.
+    receiver_case(&[true; 100], 0, 90, 2, false);
+    // Distorted: the filler's RDIST change, taken back (410B §4.1 2H.12).
+    receiver_case(&[true; 100], 0, 90, 2, true);
+    receiver_case(&[true, false, true, true], -2, 1, 0, true);
 }
 
 /// The segments a REPON sender releases for `steps`, with its forwarded copies released or

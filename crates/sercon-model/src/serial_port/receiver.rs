@@ -61,8 +61,25 @@ struct ImpliedFiller {
     fibbr_deadline: Option<Instant>,
     fibbr_future: bool,
     running: Option<Box<Running>>,
-    /// FIBBR / RDIST changes the filler scheduled.
-    scheduled: [Option<(Instant, Change)>; 3],
+    /// The RDIST change the filler scheduled at `at`, if it scheduled one (its value).
+    rdist: Option<bool>,
+}
+
+impl ImpliedFiller {
+    /// The FIBBR / RDIST changes the filler scheduled (`Receiver::take_implied_filler`),
+    /// found again from what it kept: RDIST at its start, and what its first edge
+    /// scheduled (`Receiver::edge`): FIBBR rising at a deadline passed before it, falling
+    /// at it.
+    fn scheduled(&self) -> [Option<(Instant, Change)>; 3] {
+        let rises = self
+            .fibbr_deadline
+            .filter(|d| *d <= self.at && !self.fibbr_future);
+        [
+            self.rdist.map(|v| (self.at, Change::Rdist(v))),
+            rises.map(|d| (d, Change::Fibbr(true))),
+            (self.fibbr_future || rises.is_some()).then_some((self.at, Change::Fibbr(false))),
+        ]
+    }
 }
 
 /// Where decoded frames go.
@@ -147,7 +164,7 @@ impl Receiver {
             // rise before it (the bits' last edge more than FIBBR_BIT_TIMES before) did, with
             // or without the filler (410B §4.1 2H.13): it stays, and FIBBR is set.
             let mut rose = false;
-            for entry in undo.scheduled.iter().rev().flatten() {
+            for entry in undo.scheduled().iter().rev().flatten() {
                 if entry.0 >= seg.start {
                     events.unschedule_status(*entry);
                 } else if entry.1 == Change::Fibbr(true) {
@@ -189,22 +206,12 @@ impl Receiver {
         let fibbr_deadline = self.fibbr_deadline;
         let fibbr_future = self.fibbr_future;
         let running = self.running.take();
-        let mut scheduled = [None; 3];
         // 410B §4.1 2H.12 RDIST, as for any segment (dropped when RDIST has that value).
         let before = events.status_len();
         events.push(at, Change::Rdist(distorted));
-        if events.status_len() > before {
-            scheduled[0] = Some((at, Change::Rdist(distorted)));
-        }
+        let rdist = (events.status_len() > before).then_some(distorted);
         // Filler: the light changes at the start of every bit time, from the line's level
-        // (its first edge at `at`); no FIBBR while it lasts (410B §4.1 2H.13). What the
-        // edge schedules (`Receiver::edge`): FIBBR rising at a deadline passed before it,
-        // falling at it.
-        let rises = fibbr_deadline.filter(|d| *d <= at && !fibbr_future);
-        scheduled[1] = rises.map(|d| (d, Change::Fibbr(true)));
-        if fibbr_future || rises.is_some() {
-            scheduled[2] = Some((at, Change::Fibbr(false)));
-        }
+        // (its first edge at `at`); no FIBBR while it lasts (410B §4.1 2H.13).
         self.edge(at, events);
         self.fibbr_deadline = None;
         self.open_filler = true;
@@ -213,7 +220,7 @@ impl Receiver {
             fibbr_deadline,
             fibbr_future,
             running,
-            scheduled,
+            rdist,
         });
     }
 
