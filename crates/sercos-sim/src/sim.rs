@@ -95,6 +95,9 @@ struct Segment {
     last_entered: Option<(LineSegment, usize)>,
     /// Keep `last_entered` (a break's repair or a power-on downstream replays it).
     keep_last: bool,
+    /// Nothing to do as a segment enters: no fault in the whole run, nothing kept, not
+    /// traced (all fixed when the simulation is made).
+    plain: bool,
 }
 
 /// A running simulation.
@@ -271,11 +274,13 @@ impl Simulation {
                         matches!(f.kind, FaultKind::PowerOff { node, .. }
                             if downstream.is_none_or(|d| d == node))
                     });
+                let plain = !keep_last && faults.is_clean() && !recorder.wants(k);
                 Segment {
                     delay: *d,
                     faults,
                     last_entered: None,
                     keep_last,
+                    plain,
                 }
             })
             .collect();
@@ -717,7 +722,7 @@ impl Simulation {
             let Some(s) = self.segments.get_mut(cur) else {
                 return;
             };
-            if enter {
+            if enter && !s.plain {
                 if s.keep_last {
                     s.last_entered = Some((seg.clone(), origin));
                 }
@@ -778,10 +783,7 @@ impl Simulation {
     /// Whether a segment entering fibre `k` is taken as its bits and their filler: the
     /// fibre has faults, keeps what entered it or is traced.
     fn splits_filler(&self, k: usize) -> bool {
-        self.segments
-            .get(k)
-            .is_none_or(|s| s.keep_last || !s.faults.is_clean())
-            || self.recorder.wants(k)
+        self.segments.get(k).is_none_or(|s| !s.plain)
     }
 
     /// 410B Fig. 4: the bus carries own telegrams only; overlapping ones are garbled.
