@@ -162,6 +162,9 @@ pub struct Simulation {
     first_drifting: usize,
     /// Slaves run past their own output in the pass being made (`early_route`).
     deferred: Vec<usize>,
+    /// The node a replay of what enters a fibre is for (`fault_end`): on the fast path it
+    /// gets a slave's signal too (see `propagate`).
+    replay_to: Option<usize>,
     /// The master's next output for any input (`Chip::next_output_for_any_input`), found
     /// once per pass of a telegram of the master (nothing reaches the master before the
     /// pass's last hop).
@@ -353,6 +356,7 @@ impl Simulation {
             from_master,
             first_drifting: drifting,
             deferred: Vec::new(),
+            replay_to: None,
             master_next: None,
         };
         sim.start_hosts();
@@ -747,11 +751,16 @@ impl Simulation {
             }
             // Fast path: slaves ignore other slaves' telegrams (410B §1: "Only transmission
             // data which is intended for the particular interface user is processed"), so
-            // a slave's ATs and filler go only to the master.
+            // a slave's ATs and filler go only to the master. A slave's receiver then follows
+            // the master's filler, which never ends between the master's telegrams; a fresh
+            // receiver (a node powered on, a fibre repaired) has none and gets the replay of
+            // what enters its fibre whatever its origin, or it would see no edges until the
+            // master's next telegram (410B §4.1 2H.13 FIBBR).
             let deliver = !fast
                 || next == 0
                 || origin == 0
-                || !matches!(seg.signal, LineSignal::Bits(_) | LineSignal::Filler);
+                || !matches!(seg.signal, LineSignal::Bits(_) | LineSignal::Filler)
+                || self.replay_to == Some(next);
             let repeating = node.repeating && next != 0;
             if !fast || !repeating {
                 // The last hop: the segment itself goes to the receiver.
@@ -1222,7 +1231,8 @@ impl Simulation {
         match f.kind {
             FaultKind::FibreBreak { segment, .. } => {
                 if let Some((seg, origin)) = self.current_entering(segment, t) {
-                    self.propagate(segment, seg, origin, true);
+                    let downstream = (segment + 1) % self.nodes.len().max(1);
+                    self.replay(segment, seg, origin, downstream);
                 }
             }
             FaultKind::PowerOff { node, .. } => {
@@ -1267,12 +1277,20 @@ impl Simulation {
                 if !matches!(self.topology, Topology::Bus { .. })
                     && let Some((seg, origin)) = self.current_entering(up, at)
                 {
-                    self.propagate(up, seg, origin, true);
+                    self.replay(up, seg, origin, node);
                 }
             }
             _ => {}
         }
         Ok(())
+    }
+
+    /// Sends what enters fibre `k` again (from a repair or a power-on on), for the fresh
+    /// receiver of node `to` (`propagate`: it gets it whatever its origin).
+    fn replay(&mut self, k: usize, seg: LineSegment, origin: usize, to: usize) {
+        self.replay_to = Some(to);
+        self.propagate(k, seg, origin, true);
+        self.replay_to = None;
     }
 
     /// The signal entering segment `k` from `t` on, as a segment starting at `t`.

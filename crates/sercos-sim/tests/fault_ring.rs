@@ -11,7 +11,7 @@ use sercon_regs::{Register, SerconBus};
 use sercos_sim::sim::Simulation;
 use sercos_sim::static_ring::{RingPlan, StaticRing, at_pattern, mdt_pattern};
 use sercos_sim::trace::SegmentId;
-use sercos_sim::{Fault, FaultKind, Topology};
+use sercos_sim::{Delivery, Fault, FaultKind, Topology};
 use sercos_wire::line::frame_bit_len;
 use sercos_wire::time::{Duration, Instant};
 
@@ -269,6 +269,57 @@ fn power_off_and_on_of_a_slave() {
     let want: Vec<u16> = (0..8).map(|k| mdt_pattern(2, k)).collect();
     let c = sim.chip_mut(2).expect("slave");
     assert_eq!(words(c, plan.slave_mdt_data, 8), want);
+}
+
+// A slave powered on between telegrams gets the filler upstream carries from that instant on
+// (the simulation replays what enters its fibre): its receiver sees edges at once, so FIBBR
+// (410B §4.1 2H.13, "No edges on receive data") does not rise while it waits for the next
+// telegram, as it does while its fibre is dark (`power_off_and_on_of_a_slave`). The same on
+// the fast path, where slaves otherwise get no other slave's signal, as on the exact one.
+#[test]
+fn a_slave_powered_on_between_telegrams_hears_the_filler_at_once() {
+    // With the telegram log on (every fibre traced) and without any trace.
+    for (delivery, logged) in [
+        (Delivery::Fast, true),
+        (Delivery::Exact, true),
+        (Delivery::Fast, false),
+    ] {
+        let mut ring = StaticRing::new(4, 250);
+        ring.delivery = delivery;
+        for on_us in [2100u64, 2130, 2170, 2210] {
+            let (mut cfg, hosts, _) = build(&ring);
+            if !logged {
+                cfg.traces.log = None;
+            }
+            cfg.faults = vec![Fault {
+                at: us(1000),
+                kind: FaultKind::PowerOff {
+                    node: 2,
+                    until: Some(us(on_us)),
+                },
+            }];
+            let mut sim = Simulation::new(cfg, hosts).expect("valid");
+            sim.run_until(us(on_us - 10)).expect("runs");
+            assert!(!sim.powered(2));
+            assert!(
+                reg(&mut sim, 3, Register::Ctrl2) & FIBBR != 0,
+                "dark downstream"
+            );
+            // Every 500 ns up to 5 µs after power-on (FIBBR_BIT_TIMES at 16 Mbit/s is 2 µs):
+            // the filler only.
+            for k in 0..=10u64 {
+                sim.run_until(us(on_us) + Duration::from_nanos(500 * k))
+                    .expect("runs");
+                assert!(sim.powered(2));
+                assert_eq!(
+                    reg(&mut sim, 2, Register::Ctrl2) & FIBBR,
+                    0,
+                    "{delivery:?} (logged {logged}): on at {on_us} µs, {} ns after",
+                    500 * k
+                );
+            }
+        }
+    }
 }
 
 #[test]
