@@ -111,6 +111,7 @@ impl Receiver {
 
     /// The receive line's light level at `t` as the last segment received decides it
     /// (`None` before any), remembered for taking a segment that starts at `t`.
+    #[inline]
     pub(crate) fn level_at(&self, t: Instant) -> Option<bool> {
         if let Some((at, level)) = self.level_memo.get()
             && at == t
