@@ -1,5 +1,7 @@
 //! Runs one `sercon bench` scenario for a number of cycles (for profilers such as
 //! `valgrind --tool=callgrind`): `ring_profile <scenario> <cycles> [events|observable]`.
+//! `ring-8x<k>` is `ring-8` with `k` slaves (1 to 254): the cost per cycle at a few `k`
+//! splits into a fixed part and a part per slave (docs/performance.md, session 10).
 
 use sercos_sim::scenario;
 use sercos_sim::sim::Lookahead;
@@ -13,7 +15,16 @@ fn main() {
         Some("observable") => Lookahead::Observable,
         _ => Lookahead::Events,
     };
-    let Some(s) = scenario::all().into_iter().find(|s| s.name == name) else {
+    let resized = name
+        .strip_prefix("ring-8x")
+        .and_then(|k| k.parse::<usize>().ok())
+        .filter(|k| (1..=254).contains(k))
+        .map(|k| {
+            let mut s = scenario::ring_8();
+            s.ring.slaves = k;
+            s
+        });
+    let Some(s) = resized.or_else(|| scenario::all().into_iter().find(|s| s.name == name)) else {
         eprintln!("no scenario {name}");
         std::process::exit(2);
     };
