@@ -49,19 +49,30 @@ pub(crate) struct QuietPins {
     applied: Instant,
 }
 
+/// Notes a change of its pin at `at` after the ones noted in `last` (IDLE, REACTN); returns
+/// whether it comes before the last one of its pin.
+fn follows_out_of_order(
+    last: &mut (Option<Instant>, Option<Instant>),
+    at: Instant,
+    change: Change,
+) -> bool {
+    let last = if matches!(change, Change::Idle(_)) {
+        &mut last.0
+    } else {
+        &mut last.1
+    };
+    let before = last.is_some_and(|l| at < l);
+    *last = Some(at);
+    before
+}
+
 impl QuietPins {
     /// Keeps a change. One scheduled before the applied instant counts from that instant,
     /// after the changes applied (as a time-ordered queue applies it with its next
     /// application, after those it applied before).
     pub(crate) fn push(&mut self, at: Instant, change: Change) {
         let at = at.max(self.applied);
-        let last = if matches!(change, Change::Idle(_)) {
-            &mut self.last.0
-        } else {
-            &mut self.last.1
-        };
-        self.unsorted |= last.is_some_and(|l| at < l);
-        *last = Some(at);
+        self.unsorted |= follows_out_of_order(&mut self.last, at, change);
         self.max = self.max.max(at);
         self.changes.push((at, change));
     }
@@ -141,16 +152,10 @@ impl QuietPins {
             false
         });
         // Whether what is left is in time order again, pin by pin.
-        let mut last: (Option<Instant>, Option<Instant>) = (None, None);
+        let mut last = (None, None);
         let mut unsorted = false;
         for &(at, change) in &self.changes {
-            let l = if matches!(change, Change::Idle(_)) {
-                &mut last.0
-            } else {
-                &mut last.1
-            };
-            unsorted |= l.is_some_and(|l| at < l);
-            *l = Some(at);
+            unsorted |= follows_out_of_order(&mut last, at, change);
         }
         self.unsorted = unsorted;
         self.last = last;
