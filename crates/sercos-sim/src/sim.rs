@@ -292,10 +292,7 @@ impl Simulation {
             .map(|k| {
                 let up = (k + n - 1) % n;
                 ring && k != 0
-                    && segments
-                        .get(up)
-                        .is_some_and(|s| s.faults.is_clean() && !s.keep_last)
-                    && !recorder.wants(up)
+                    && segments.get(up).is_some_and(|s| s.plain)
                     && nodes.get(k).is_some_and(|nd| nd.off_windows.is_empty())
             })
             .collect();
@@ -1285,7 +1282,7 @@ impl Simulation {
         Ok(())
     }
 
-    /// Sends what enters fibre `k` again (from a repair or a power-on on), for the fresh
+    /// Sends what enters fibre `k` again (at a repair or a power-on), for the fresh
     /// receiver of node `to` (`propagate`: it gets it whatever its origin).
     fn replay(&mut self, k: usize, seg: LineSegment, origin: usize, to: usize) {
         self.replay_to = Some(to);

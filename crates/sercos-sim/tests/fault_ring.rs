@@ -271,11 +271,12 @@ fn power_off_and_on_of_a_slave() {
     assert_eq!(words(c, plan.slave_mdt_data, 8), want);
 }
 
-// A slave powered on between telegrams gets the filler upstream carries from that instant on
-// (the simulation replays what enters its fibre): its receiver sees edges at once, so FIBBR
-// (410B §4.1 2H.13, "No edges on receive data") does not rise while it waits for the next
-// telegram, as it does while its fibre is dark (`power_off_and_on_of_a_slave`). The same on
-// the fast path, where slaves otherwise get no other slave's signal, as on the exact one.
+// A slave powered on between telegrams, or behind a fibre repaired then, gets the filler
+// upstream carries from that instant on (the simulation replays what enters its fibre): its
+// receiver sees edges at once, so FIBBR (410B §4.1 2H.13, "No edges on receive data") does
+// not rise while it waits for the next telegram, as it does while its fibre is dark
+// (`power_off_and_on_of_a_slave`). The same on the fast path, where slaves otherwise get no
+// other slave's signal, as on the exact one.
 #[test]
 fn a_slave_powered_on_between_telegrams_hears_the_filler_at_once() {
     // With the telegram log on (every fibre traced) and without any trace.
@@ -287,36 +288,42 @@ fn a_slave_powered_on_between_telegrams_hears_the_filler_at_once() {
         let mut ring = StaticRing::new(4, 250);
         ring.delivery = delivery;
         for on_us in [2100u64, 2130, 2170, 2210] {
-            let (mut cfg, hosts, _) = build(&ring);
-            if !logged {
-                cfg.traces.log = None;
-            }
-            cfg.faults = vec![Fault {
-                at: us(1000),
-                kind: FaultKind::PowerOff {
-                    node: 2,
-                    until: Some(us(on_us)),
-                },
-            }];
-            let mut sim = Simulation::new(cfg, hosts).expect("valid");
-            sim.run_until(us(on_us - 10)).expect("runs");
-            assert!(!sim.powered(2));
-            assert!(
-                reg(&mut sim, 3, Register::Ctrl2) & FIBBR != 0,
-                "dark downstream"
-            );
-            // Every 500 ns up to 5 µs after power-on (FIBBR_BIT_TIMES at 16 Mbit/s is 2 µs):
-            // the filler only.
-            for k in 0..=10u64 {
-                sim.run_until(us(on_us) + Duration::from_nanos(500 * k))
-                    .expect("runs");
-                assert!(sim.powered(2));
-                assert_eq!(
-                    reg(&mut sim, 2, Register::Ctrl2) & FIBBR,
-                    0,
-                    "{delivery:?} (logged {logged}): on at {on_us} µs, {} ns after",
-                    500 * k
+            // Slave 2 powered off, or the fibre into it (segment 1, from slave 1) broken.
+            for powered_off in [true, false] {
+                let (mut cfg, hosts, _) = build(&ring);
+                if !logged {
+                    cfg.traces.log = None;
+                }
+                let until = Some(us(on_us));
+                let kind = if powered_off {
+                    FaultKind::PowerOff { node: 2, until }
+                } else {
+                    FaultKind::FibreBreak { segment: 1, until }
+                };
+                cfg.faults = vec![Fault { at: us(1000), kind }];
+                let mut sim = Simulation::new(cfg, hosts).expect("valid");
+                let case = format!("{delivery:?} (logged {logged}, {kind:?})");
+                sim.run_until(us(on_us - 10)).expect("runs");
+                assert_ne!(sim.powered(2), powered_off, "{case}");
+                let dark = if powered_off { 3 } else { 2 };
+                assert!(
+                    reg(&mut sim, dark, Register::Ctrl2) & FIBBR != 0,
+                    "{case}: dark downstream"
                 );
+                // Every 500 ns up to 5 µs after (FIBBR_BIT_TIMES at 16 Mbit/s is 2 µs): the
+                // filler only. A repaired fibre's light takes its delay (50 ns) to arrive.
+                let first = u64::from(!powered_off);
+                for k in first..=10u64 {
+                    sim.run_until(us(on_us) + Duration::from_nanos(500 * k))
+                        .expect("runs");
+                    assert!(sim.powered(2));
+                    assert_eq!(
+                        reg(&mut sim, 2, Register::Ctrl2) & FIBBR,
+                        0,
+                        "{case}: on at {on_us} µs, {} ns after",
+                        500 * k
+                    );
+                }
             }
         }
     }

@@ -81,10 +81,7 @@ impl QuietPins {
     /// several at one instant, the last scheduled, as a time-ordered queue would apply
     /// them), else `base`.
     pub(crate) fn level(&self, pin: PinLine, base: bool) -> bool {
-        self.level_at(pin, base, self.applied)
-    }
-
-    fn level_at(&self, pin: PinLine, base: bool, upto: Instant) -> bool {
+        let upto = self.applied;
         if !self.unsorted {
             // Each pin's changes in time order: its latest one at or before `upto` is the
             // last such one (of several at one instant, the last scheduled).
@@ -121,44 +118,24 @@ impl QuietPins {
     /// Folds the changes up to the applied instant into `levels` and drops them.
     fn fold(&mut self, levels: &mut (bool, bool)) {
         let upto = self.applied;
-        if !self.unsorted {
-            levels.0 = self.level_at(PinLine::Idle, levels.0, upto);
-            levels.1 = self.level_at(PinLine::Reactn, levels.1, upto);
-            if self.max <= upto {
-                // Every change read (the usual case).
-                self.changes.clear();
-            } else {
-                self.changes.retain(|(at, _)| *at > upto);
-            }
-            return;
+        levels.0 = self.level(PinLine::Idle, levels.0);
+        levels.1 = self.level(PinLine::Reactn, levels.1);
+        if self.max <= upto {
+            // Every change read (the usual case).
+            self.changes.clear();
+        } else {
+            self.changes.retain(|(at, _)| *at > upto);
         }
-        // One pass for both pins.
-        let (mut idle_at, mut reactn_at) = (None::<Instant>, None::<Instant>);
-        self.changes.retain(|&(at, change)| {
-            if at > upto {
-                return true;
+        if self.unsorted {
+            // Whether what is left is in time order again, pin by pin.
+            let mut last = (None, None);
+            let mut unsorted = false;
+            for &(at, change) in &self.changes {
+                unsorted |= follows_out_of_order(&mut last, at, change);
             }
-            match change {
-                Change::Idle(l) if idle_at.is_none_or(|t| at >= t) => {
-                    idle_at = Some(at);
-                    levels.0 = l;
-                }
-                Change::Reactn(l) if reactn_at.is_none_or(|t| at >= t) => {
-                    reactn_at = Some(at);
-                    levels.1 = l;
-                }
-                _ => {}
-            }
-            false
-        });
-        // Whether what is left is in time order again, pin by pin.
-        let mut last = (None, None);
-        let mut unsorted = false;
-        for &(at, change) in &self.changes {
-            unsorted |= follows_out_of_order(&mut last, at, change);
+            self.unsorted = unsorted;
+            self.last = last;
         }
-        self.unsorted = unsorted;
-        self.last = last;
     }
 
     /// Drops the receiver's changes at or after `t` that are not applied yet (a collision
