@@ -245,6 +245,18 @@ impl LineEvents {
         }
     }
 
+    /// The RDIST value after every scheduled change, when none is scheduled after `at`: an
+    /// RDIST change of that value at `at` or later would be dropped (`push`).
+    pub(crate) fn rdist_settled(&self, at: Instant) -> Option<bool> {
+        self.rdist_at_end_if_last(at)
+    }
+
+    /// What the queues hold, for comparisons in debug builds and tests.
+    #[cfg(any(test, debug_assertions))]
+    pub(crate) fn digest(&self) -> String {
+        format!("{self:?}")
+    }
+
     /// Number of scheduled FIBBR / RDIST changes.
     pub(crate) fn status_len(&self) -> usize {
         self.status.len()

@@ -158,6 +158,29 @@ impl Receiver {
         sinks: Sinks<'_, F>,
     ) {
         let Sinks { events, frames } = sinks;
+        if self.is_filler_to_filler(&seg, cfg, events) {
+            #[cfg(debug_assertions)]
+            let expected = self.general_outcome(&seg, cfg, events);
+            self.filler_to_filler(seg, events, frames);
+            #[cfg(debug_assertions)]
+            debug_assert_eq!(
+                expected,
+                (self.digest(), events.digest()),
+                "the filler-to-filler path differs from the general one"
+            );
+            return;
+        }
+        self.input_general(seg, cfg, events, frames);
+    }
+
+    /// [`Receiver::input`] of any segment.
+    fn input_general<F: FnMut(HeardFrame)>(
+        &mut self,
+        seg: LineSegment,
+        cfg: &PortConfig,
+        events: &mut LineEvents,
+        frames: &mut F,
+    ) {
         if let Some(undo) = self.implied.take()
             && seg.start <= undo.at
         {
@@ -191,6 +214,127 @@ impl Receiver {
         self.input_one(seg, cfg, events, frames);
         if implied && let Some(at) = end {
             self.take_implied_filler(at, cfg, events);
+        }
+    }
+
+    /// Whether `seg` is the usual input of an intact ring, which [`Receiver::filler_to_filler`]
+    /// takes: a telegram the sender coded ([`LineSegment::hint`], NRZI from the level the
+    /// line is at, at the receiver's bit rate, undistorted) with its implied filler, while
+    /// the implied filler of the previous one runs (no FIBBR deadline nor rise pending, no
+    /// decoder running, RDIST settled low). The general path then schedules nothing but
+    /// REACTN and changes only what `filler_to_filler` sets: the FIBBR deadlines it computes
+    /// on the way lie more than one bit time past each edge (410B §4.1 2H.13, FIBBR after
+    /// [`FIBBR_BIT_TIMES`] without an edge) and every RDIST change it asks for is the value
+    /// RDIST already has (2H.12).
+    fn is_filler_to_filler(
+        &self,
+        seg: &LineSegment,
+        cfg: &PortConfig,
+        events: &LineEvents,
+    ) -> bool {
+        const { assert!(FIBBR_BIT_TIMES > 1) };
+        let bt = seg.bit_time;
+        seg.then_filler
+            && !seg.distorted
+            && seg.hint.is_some()
+            && bt.as_picos() > 0
+            && matches!(&seg.signal, LineSignal::Bits(b) if !b.is_empty())
+            && cfg.rx_coding == RxdCoding::Nrzi
+            && cfg.bit_time.is_none_or(|own| own == bt)
+            && self.open_filler
+            && !self.fibbr_future
+            && self.running.is_none()
+            && self
+                .implied
+                .as_ref()
+                .is_some_and(|u| u.at < seg.start && u.running.is_none())
+            && self
+                .last
+                .as_ref()
+                .is_some_and(|l| l.then_filler && l.bit_time == bt && !l.distorted)
+            && self.level_at(seg.start) == Some(seg.level_before)
+            && events.rdist_settled(seg.start) == Some(false)
+    }
+
+    /// [`Receiver::input`] of a segment [`Receiver::is_filler_to_filler`] accepts, with only
+    /// the changes the general path makes: the frame (and its REACTN pulse), the segment
+    /// kept, and its implied filler taken with what taking it back needs.
+    fn filler_to_filler<F: FnMut(HeardFrame)>(
+        &mut self,
+        seg: LineSegment,
+        events: &mut LineEvents,
+        frames: &mut F,
+    ) {
+        // A filler has edges every bit time: no deadline while one runs.
+        debug_assert!(self.fibbr_deadline.is_none());
+        let bt = seg.bit_time;
+        self.timeout = bt.saturating_mul(FIBBR_BIT_TIMES);
+        let end = seg.end().unwrap_or(seg.start);
+        if let Some(hint) = &seg.hint {
+            let start = seg.start.saturating_add(bt.saturating_mul(hint.offset));
+            deliver(
+                HeardFrame {
+                    start,
+                    end,
+                    bytes: hint.telegram.clone(),
+                    fcs_ok: true,
+                },
+                bt,
+                events,
+                frames,
+            );
+        }
+        self.last = Some(seg);
+        self.level_memo.set(None);
+        // The bits' last edge set the deadline the filler's first edge then clears.
+        self.implied = Some(ImpliedFiller {
+            at: end,
+            fibbr_deadline: Some(end.saturating_sub_bits(bt).saturating_add(self.timeout)),
+            fibbr_future: false,
+            running: None,
+            rdist: None,
+        });
+    }
+
+    /// The receiver's and `events`' state after the general path took `seg` (a check of
+    /// [`Receiver::filler_to_filler`] in debug builds).
+    #[cfg(debug_assertions)]
+    fn general_outcome(
+        &self,
+        seg: &LineSegment,
+        cfg: &PortConfig,
+        events: &LineEvents,
+    ) -> (String, String) {
+        let mut rx = self.clone();
+        let mut ev = events.clone();
+        let mut frames = |_f: HeardFrame| {};
+        rx.input_general(seg.clone(), cfg, &mut ev, &mut frames);
+        (rx.digest(), ev.digest())
+    }
+
+    /// What the receiver's state says, for comparisons in debug builds and tests.
+    #[cfg(any(test, debug_assertions))]
+    fn digest(&self) -> String {
+        format!(
+            "{:?} {:?} {} {} {:?} {:?}",
+            self.last
+                .as_ref()
+                .map(|l| (l.start, l.then_filler, l.bit_time)),
+            self.fibbr_deadline,
+            self.fibbr_future,
+            self.open_filler,
+            self.timeout,
+            self.implied.as_ref().map(|u| (
+                u.at,
+                u.fibbr_deadline,
+                u.fibbr_future,
+                u.running.is_some(),
+                u.rdist
+            )),
+        ) + if self.running.is_some() {
+            " running"
+        } else {
+            ""
         }
     }
 
@@ -489,5 +633,137 @@ trait SubBits {
 impl SubBits for Instant {
     fn saturating_sub_bits(self, bt: Duration) -> Instant {
         Instant::from_picos(self.as_picos().saturating_sub(bt.as_picos()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::serial_port::port_config::TxMode;
+    use crate::serial_port::segment::FrameHint;
+    use crate::serial_settings::LErrnMode;
+    use proptest::prelude::*;
+
+    const BT: Duration = Duration::from_picos(62_500);
+
+    /// The receiver's own bit time: none (external clock), the sender's, or another (410B
+    /// §4.1 2H.12: a rate mismatch is distortion).
+    fn cfg(own: u8) -> PortConfig {
+        PortConfig {
+            bit_time: match own % 3 {
+                0 => None,
+                1 => Some(BT),
+                _ => Some(BT.saturating_mul(2)),
+            },
+            tx_mode: TxMode::Repeat,
+            presync: false,
+            polrxd: false,
+            poltxd: false,
+            rx_coding: RxdCoding::Nrzi,
+            lmode: LErrnMode::FibbrOrRdist,
+        }
+    }
+
+    /// One input: what it carries, where it starts after the previous one's bits end (in
+    /// bit times; negative: before that end), its length in bits, whether its level is the
+    /// line's, and the receiver's own bit time then (`cfg`).
+    type Step = (u8, i64, u8, bool, u8);
+
+    fn segment(kind: u8, start: Instant, len: u8, level_before: bool) -> LineSegment {
+        let mut bits = sercos_wire::line::BitVec::new();
+        for i in 0..u64::from(len).max(1) {
+            bits.push(i % 3 == 0);
+        }
+        let hint = Some(FrameHint {
+            telegram: Shared::from(&[1u8, 2, 3][..]),
+            offset: 1,
+            twin: None,
+        });
+        let mut seg = LineSegment::bits(start, BT, bits, level_before);
+        match kind {
+            // A telegram with its implied filler: the usual input of an intact ring.
+            0 | 1 => {
+                seg.hint = hint;
+                seg.then_filler = true;
+            }
+            // The same, distorted on its way (410B §4.1 2H.12 RDIST).
+            2 => {
+                seg.hint = hint;
+                seg.then_filler = true;
+                seg.distorted = true;
+            }
+            // A telegram without filler after it.
+            3 => seg.hint = hint,
+            4 => seg = LineSegment::steady(start, BT, LineSignal::Dark, level_before),
+            _ => seg = LineSegment::steady(start, BT, LineSignal::Filler, level_before),
+        }
+        seg
+    }
+
+    /// Feeds `steps` to a receiver through [`Receiver::input`] and to another through the
+    /// general path only, comparing both after each; returns how often the first took the
+    /// filler-to-filler path.
+    fn compare(steps: &[Step]) -> Result<u32, TestCaseError> {
+        let timeout = BT.saturating_mul(FIBBR_BIT_TIMES);
+        let mut fast = Receiver::new(Instant::ZERO, timeout);
+        let mut general = Receiver::new(Instant::ZERO, timeout);
+        let (mut ev_fast, mut ev_general) = (LineEvents::default(), LineEvents::default());
+        let (mut got_fast, mut got_general) = (Vec::new(), Vec::new());
+        let mut end = Instant::from_picos(1_000_000);
+        let mut taken = 0;
+        for &(kind, gap, len, keep_level, own) in steps {
+            let cfg = cfg(own);
+            let start = end
+                .as_picos()
+                .saturating_add_signed(gap.saturating_mul(BT.as_picos() as i64))
+                .max(1);
+            let start = Instant::from_picos(start);
+            let level = fast.level_at(start).unwrap_or(false);
+            let seg = segment(kind, start, len, level == keep_level);
+            taken += u32::from(fast.is_filler_to_filler(&seg, &cfg, &ev_fast));
+            end = seg.end().unwrap_or(start);
+            let mut sink = |f: HeardFrame| got_fast.push((f.start, f.end, f.bytes, f.fcs_ok));
+            let sinks = Sinks {
+                events: &mut ev_fast,
+                frames: &mut sink,
+            };
+            fast.input(seg.clone(), &cfg, sinks);
+            let mut sink = |f: HeardFrame| got_general.push((f.start, f.end, f.bytes, f.fcs_ok));
+            general.input_general(seg, &cfg, &mut ev_general, &mut sink);
+            prop_assert_eq!(fast.digest(), general.digest());
+            prop_assert_eq!(ev_fast.digest(), ev_general.digest());
+            prop_assert_eq!(&got_fast, &got_general);
+        }
+        Ok(taken)
+    }
+
+    proptest! {
+        /// 410B §4.1 2H.12–13, §2 REACTN: the filler-to-filler path leaves the receiver, its
+        /// scheduled changes and its frames exactly as the general path does, take-backs of
+        /// the implied filler included (a segment starting before its start).
+        #[test]
+        fn the_filler_to_filler_path_is_the_general_path(
+            steps in prop::collection::vec(
+                (0u8..6, -40i64..120, 1u8..80, any::<bool>(), prop_oneof![4 => Just(1u8), 1 => 0u8..3]),
+                1..40,
+            ),
+        ) {
+            compare(&steps)?;
+        }
+    }
+
+    /// An intact ring's input (telegrams with their filler, some bit times apart, then one
+    /// cut short by the next) takes the path and agrees with the general one.
+    #[test]
+    fn an_intact_ring_takes_the_filler_to_filler_path() {
+        for own in [0, 1] {
+            let ring: Vec<Step> = (0..12)
+                .map(|i| (0, 8 + i, 40, true, own))
+                .chain([(0, -3, 30, true, own), (0, 10, 30, true, own)])
+                .chain([(4, 200, 1, true, own), (0, 5, 30, true, own)])
+                .collect();
+            let taken = compare(&ring).unwrap_or_else(|e| panic!("{e}"));
+            assert!(taken >= 10, "taken {taken} times");
+        }
     }
 }
