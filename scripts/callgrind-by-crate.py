@@ -24,7 +24,9 @@ for path in sys.argv[1:]:
             continue
         count, src, func = int(m.group(1).replace(",", "")), m.group(2), m.group(3)
         crate = next((c for c in CRATES if f"/{c}/" in src), None)
-        if crate is None and "/rustc/" in src:
+        # The standard library's sources: `/rustc/<hash>/library/…` or, with the rust-src
+        # component, `…/rustlib/src/rust/library/…`.
+        if crate is None and ("/rustc/" in src or "/rustlib/src/" in src):
             crate = "std:sim" if "sercos_sim::" in func.split("[")[0] else "std:model"
         crate = crate or "other"
         share[crate] = share.get(crate, 0) + count
