@@ -65,6 +65,9 @@ pub struct Chip {
     pub(crate) layout: std::cell::Cell<Option<(bool, u8)>>,
     /// The words the walks read, as the layout proof found them.
     pub(crate) layout_read: std::cell::RefCell<crate::telegram_processor::RamWords>,
+    /// [`Chip::advance_to`] takes a processor event right after the previous one when
+    /// nothing lies between ([`Chip::set_chained_steps`]).
+    pub(crate) chained_steps: bool,
 }
 
 impl Chip {
@@ -104,6 +107,7 @@ impl Chip {
             out_bound: std::cell::Cell::new(None),
             layout: std::cell::Cell::new(None),
             layout_read: Default::default(),
+            chained_steps: true,
         }
     }
 
@@ -194,15 +198,28 @@ impl Chip {
                         // Otherwise the step changed the timing control only: the
                         // processor's next tick stands.
                     }
-                    (_, Some(k)) => {
+                    (_, Some(first)) => {
                         let fifo = self.tp.fifo.state();
                         let flags = self.engine.flags;
-                        crate::telegram_processor::step(self, k);
+                        let mut k = first;
+                        loop {
+                            crate::telegram_processor::step(self, k);
+                            tp_next = crate::telegram_processor::next_tick(self);
+                            // The processor's next event, when it comes before anything
+                            // else this loop would take and the steps so far changed no pin
+                            // level, is taken at once: the turn in between would only find
+                            // it and settle nothing (spec-notes "Chained processor steps").
+                            match tp_next {
+                                Some(e) if self.chains_to(e, limit, engine_tick, flags, fifo) => {
+                                    k = e;
+                                }
+                                _ => break,
+                            }
+                        }
                         // Most steps leave the FIFOs alone, with no DMA pin traced: no call.
                         if self.tp.fifo.state() != fifo || self.dma_pins_traced() {
                             self.dma_changed(fifo, k);
                         }
-                        tp_next = crate::telegram_processor::next_tick(self);
                         // The engine's pin levels follow its interrupt flags, settings,
                         // timing outputs and watchdog. The processor reads the settings,
                         // raises flags, and changes the engine's timing only through
@@ -239,6 +256,40 @@ impl Chip {
             self.apply_quiet_events(Some(limit));
         }
         self.now = t;
+    }
+
+    /// Whether [`Chip::advance_to`] may take the processor's next event at MCLK tick `e`
+    /// right after its last step, skipping a turn of its loop: `e` is due by `limit` and
+    /// before the timing control's next tick (`engine_tick`, first at equal ticks) and before
+    /// any serial-port change the loop applies first, and the steps since the turn began
+    /// (from interrupt flags `flags` and FIFO state `fifo`) changed no pin level: no flag an
+    /// enabled interrupt output carries (`Settings::int_out_lo`, and the flags of 5H, WDOG
+    /// and RSCEND unchanged), the timing control's memo kept (no `sync_cycle`), the FIFOs as
+    /// they were with no DMA pin traced. The loop's settling after the last step then emits
+    /// what the steps changed, at that step's tick, as the turns one by one would.
+    #[inline]
+    fn chains_to(
+        &self,
+        e: u64,
+        limit: u64,
+        engine_tick: Option<u64>,
+        flags: crate::interrupts::Flags,
+        fifo: crate::telegram_processor::FifoState,
+    ) -> bool {
+        let now = self.engine.flags;
+        self.chained_steps
+            && e <= limit
+            && engine_tick.is_none_or(|x| x > e)
+            && self.engine.next_memo.is_some()
+            && (now.lo ^ flags.lo) & self.engine.s.int_out_lo == 0
+            && now.hi == flags.hi
+            && now.wdog == flags.wdog
+            && now.rscend == flags.rscend
+            && self.tp.fifo.state() == fifo
+            && !self.dma_pins_traced()
+            && self
+                .serial_next_loud_event()
+                .is_none_or(|a| a > self.clock.instant(e))
     }
 
     /// [`Chip::advance_to`] for an instant before [`Chip::next_output_bound`] (a simulation
@@ -492,6 +543,15 @@ impl Chip {
         self.serial_pins_traced =
             pins.contains(Pin::Idle) || pins.contains(Pin::TxD) || pins.contains(Pin::Reactn);
         self.serial.set_pins_loud(self.serial_pins_traced);
+    }
+
+    /// Whether [`Chip::advance_to`] may take the telegram processor's next event right
+    /// after its previous one, without a turn of its event loop in between, when nothing
+    /// can come between them and the first changed no pin level (on after [`Chip::new`]).
+    /// Off, every event gets its own turn: the two read and emit the same (a switch for
+    /// comparing them; spec-notes "Chained processor steps").
+    pub fn set_chained_steps(&mut self, on: bool) {
+        self.chained_steps = on;
     }
 
     /// The pins currently traced.
