@@ -13,6 +13,7 @@ use std::collections::VecDeque;
 use sercos_wire::time::Instant;
 
 use super::quiet_pins::{PinLine, QuietPins};
+use crate::chip::earliest;
 
 /// One scheduled change of a line status.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -278,14 +279,6 @@ impl LineEvents {
             Change::Fibbr(v) => Some(*v),
             _ => None,
         })
-    }
-}
-
-/// The earlier of two optional instants.
-fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant> {
-    match (a, b) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
     }
 }
 

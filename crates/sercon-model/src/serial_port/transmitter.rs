@@ -13,6 +13,7 @@ use sercos_wire::time::{Duration, Instant};
 
 use super::coded_frames::CodedFrames;
 use super::segment::{FrameHint, LineSegment, LineSignal, Shared};
+use crate::chip::earliest;
 
 /// An own telegram placed on the transmitter's timeline.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -183,17 +184,22 @@ impl Transmitter {
 
     /// [`Transmitter::next_release_at`] from the queues.
     fn compute_next_release(&self) -> Option<Instant> {
-        let mut next = self.resume_at;
-        for t in [
+        let (own, background) = self.fronts();
+        self.next_of(own, background)
+    }
+
+    /// The starts of the first own telegram and of the first background segment queued.
+    fn fronts(&self) -> (Option<Instant>, Option<Instant>) {
+        (
             self.own.front().map(|s| s.start),
             self.background.front().map(|q| q.seg.start),
-        ]
-        .into_iter()
-        .flatten()
-        {
-            next = Some(next.map_or(t, |n| n.min(t)));
-        }
-        next
+        )
+    }
+
+    /// The next release given the queues' [`Transmitter::fronts`]: the earliest of them and
+    /// the resume.
+    fn next_of(&self, own: Option<Instant>, background: Option<Instant>) -> Option<Instant> {
+        earliest(earliest(own, background), self.resume_at)
     }
 
     /// The instant the next own output starts: an own telegram, or the background resumed
@@ -241,8 +247,13 @@ impl Transmitter {
 
     /// Releases every output segment that starts at or before `now`.
     pub(crate) fn release(&mut self, now: Instant) {
-        while let Some(t) = self.compute_next_release().filter(|t| *t <= now) {
-            if self.own.front().is_some_and(|s| s.start == t) {
+        loop {
+            // The queues' fronts once per turn.
+            let (own_at, bg_at) = self.fronts();
+            let Some(t) = self.next_of(own_at, bg_at).filter(|t| *t <= now) else {
+                break;
+            };
+            if own_at == Some(t) {
                 let Some(own) = self.own.pop_front() else {
                     break;
                 };
@@ -271,7 +282,7 @@ impl Transmitter {
                 let open = seg.then_filler;
                 self.emit(seg);
                 self.implied_open = open;
-            } else if self.background.front().is_some_and(|q| q.seg.start == t) {
+            } else if bg_at == Some(t) {
                 let Some(Queued { seg, carried }) = self.background.pop_front() else {
                     break;
                 };
