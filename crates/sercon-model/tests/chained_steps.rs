@@ -13,7 +13,6 @@ use harness::*;
 use proptest::prelude::*;
 use sercon_model::Chip;
 use sercon_model::pins::{Pin, PinEvent, PinSet};
-use sercon_regs::ram::header::TxEnable;
 use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
 use sercos_wire::time::Duration;
 
@@ -45,30 +44,11 @@ fn ring(s: Setup, chained: bool) -> Ring {
     let v = Variant::Sercon816;
     let mut m = chip(v);
     let mut sl = chip(v);
-    // Master: COMPT0 → tx MDT (16) → rx AT (29) → end marker (44).
-    m.write_ram(0, 16);
-    tx_header(&mut m, 16, tx(255, TxEnable::Continuous, 5, 8, 29));
-    m.write_ram(20, control(8, true));
-    let mut r = rx(1, true, 40, 8, 44);
-    r.tchk = s.tchk;
-    rx_header(&mut m, 29, r);
-    m.write_ram_words(34, &[control(8, true), 0]);
-    end_marker(&mut m, 44);
-    // Slave: COMPT0 → rx MDT (16) → tx AT (31) → end marker (44).
-    sl.write_ram(0, 16);
-    let mut r = rx(255, true, 5, 8, 31);
-    r.tchk = s.tchk;
-    rx_header(&mut sl, 16, r);
-    sl.write_ram_words(21, &[control(8, true), 0]);
-    tx_header(&mut sl, 31, tx(1, TxEnable::Continuous, 40, 8, 44));
-    sl.write_ram(35, control(8, true));
-    end_marker(&mut sl, 44);
+    one_slave_blocks(&mut m, &mut sl, s.tchk);
     let ints = if s.en[0] | s.en[1] != 0 { ENINT0 } else { 0 }
         | if s.en[2] | s.en[3] != 0 { ENINT1 } else { 0 };
     let conclk = if s.conclk { ENCONCLK } else { 0 };
     for c in [&mut m, &mut sl] {
-        c.write(Register::Jtrdel1, 2);
-        c.write(Register::Jtrdel2, 3);
         c.write(Register::En0IntLo, s.en[0]);
         c.write(Register::En0IntHi, s.en[1]);
         c.write(Register::En1IntLo, s.en[2]);

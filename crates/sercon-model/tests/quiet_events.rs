@@ -28,27 +28,8 @@ fn ring(int_out: bool) -> Ring {
     let v = Variant::Sercon816;
     let mut m = chip(v);
     let mut s = chip(v);
-    // Master: COMPT0 → tx MDT (16) → rx AT (29) → end marker (44).
-    m.write_ram(0, 16);
-    tx_header(&mut m, 16, tx(255, TxEnable::Continuous, 5, 8, 29));
-    m.write_ram(20, control(8, true));
-    let mut r = rx(1, true, 40, 8, 44);
-    r.tchk = true;
-    rx_header(&mut m, 29, r);
-    m.write_ram_words(34, &[control(8, true), 0]);
-    end_marker(&mut m, 44);
-    // Slave: COMPT0 → rx MDT (16) → tx AT (31) → end marker (44).
-    s.write_ram(0, 16);
-    let mut r = rx(255, true, 5, 8, 31);
-    r.tchk = true;
-    rx_header(&mut s, 16, r);
-    s.write_ram_words(21, &[control(8, true), 0]);
-    tx_header(&mut s, 31, tx(1, TxEnable::Continuous, 40, 8, 44));
-    s.write_ram(35, control(8, true));
-    end_marker(&mut s, 44);
+    one_slave_blocks(&mut m, &mut s, true);
     for c in [&mut m, &mut s] {
-        c.write(Register::Jtrdel1, 2);
-        c.write(Register::Jtrdel2, 3);
         if int_out {
             c.write(Register::En0IntLo, QUIET_FLAGS);
         }

@@ -10,7 +10,7 @@ use sercos_wire::time::{Duration, Instant};
 use super::line_events::{Change, LineEvents};
 use super::port_config::PortConfig;
 use super::segment::Shared;
-use super::segment::{LineSegment, LineSignal};
+use super::segment::{FrameHint, LineSegment, LineSignal};
 use super::{FIBBR_BIT_TIMES, HeardFrame};
 use crate::serial_settings::RxdCoding;
 
@@ -271,18 +271,7 @@ impl Receiver {
         self.timeout = bt.saturating_mul(FIBBR_BIT_TIMES);
         let end = seg.end().unwrap_or(seg.start);
         if let Some(hint) = &seg.hint {
-            let start = seg.start.saturating_add(bt.saturating_mul(hint.offset));
-            deliver(
-                HeardFrame {
-                    start,
-                    end,
-                    bytes: hint.telegram.clone(),
-                    fcs_ok: true,
-                },
-                bt,
-                events,
-                frames,
-            );
+            deliver_hinted(&seg, hint, end, events, frames);
         }
         self.last = Some(seg);
         self.level_memo.set(None);
@@ -462,21 +451,7 @@ impl Receiver {
                         end.saturating_sub_bits(seg.bit_time)
                             .saturating_add(self.timeout),
                     );
-                    let start = seg
-                        .start
-                        .saturating_add(seg.bit_time.saturating_mul(hint.offset));
-                    // The hint's bytes are the telegram's: shared, not copied.
-                    deliver(
-                        HeardFrame {
-                            start,
-                            end,
-                            bytes: hint.telegram.clone(),
-                            fcs_ok: true,
-                        },
-                        seg.bit_time,
-                        events,
-                        frames,
-                    );
+                    deliver_hinted(&seg, hint, end, events, frames);
                     self.running = None;
                 } else {
                     self.scan_edges(&seg, prev_level, events);
@@ -599,6 +574,29 @@ fn deliver<F: FnMut(HeardFrame)>(
     frames(frame);
 }
 
+/// Hands the telegram of `seg`'s `hint`, ending at `end`, to the processor with its REACTN
+/// pulse.
+#[inline(always)]
+fn deliver_hinted<F: FnMut(HeardFrame)>(
+    seg: &LineSegment,
+    hint: &FrameHint,
+    end: Instant,
+    events: &mut LineEvents,
+    frames: &mut F,
+) {
+    let start = seg
+        .start
+        .saturating_add(seg.bit_time.saturating_mul(hint.offset));
+    // The hint's bytes are the telegram's: shared, not copied.
+    let frame = HeardFrame {
+        start,
+        end,
+        bytes: hint.telegram.clone(),
+        fcs_ok: true,
+    };
+    deliver(frame, seg.bit_time, events, frames);
+}
+
 /// The decoder configuration for light-level input.
 ///
 /// NRZ: the data bit is the chip's "light on", i.e. the light level when POLRXD = 0 and its
@@ -640,7 +638,6 @@ impl SubBits for Instant {
 mod tests {
     use super::*;
     use crate::serial_port::port_config::TxMode;
-    use crate::serial_port::segment::FrameHint;
     use crate::serial_settings::LErrnMode;
     use proptest::prelude::*;
 

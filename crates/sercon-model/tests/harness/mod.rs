@@ -94,6 +94,34 @@ pub fn rx(adr: u8, achk: bool, trt: u16, tlen: u16, pt: u16) -> RxHeader {
     }
 }
 
+/// The blocks of a phase-4 ring of one slave (410B §4.2.1–§4.2.3): the master sends the MDT
+/// (8 words) at TRT 5 and expects the AT (8 words, ADR 1) at TRT 40, the slave the other way
+/// round; both receive headers check their time when `tchk` (TCHK with JTRDEL1 = 2,
+/// JTRDEL2 = 3). Master: COMPT0 → tx MDT (16) → rx AT (29) → end marker (44); slave:
+/// COMPT0 → rx MDT (16) → tx AT (31) → end marker (44).
+pub fn one_slave_blocks(m: &mut Chip, s: &mut Chip, tchk: bool) {
+    m.write_ram(0, 16);
+    tx_header(m, 16, tx(255, TxEnable::Continuous, 5, 8, 29));
+    m.write_ram(20, control(8, true));
+    let mut r = rx(1, true, 40, 8, 44);
+    r.tchk = tchk;
+    rx_header(m, 29, r);
+    m.write_ram_words(34, &[control(8, true), 0]);
+    end_marker(m, 44);
+    s.write_ram(0, 16);
+    let mut r = rx(255, true, 5, 8, 31);
+    r.tchk = tchk;
+    rx_header(s, 16, r);
+    s.write_ram_words(21, &[control(8, true), 0]);
+    tx_header(s, 31, tx(1, TxEnable::Continuous, 40, 8, 44));
+    s.write_ram(35, control(8, true));
+    end_marker(s, 44);
+    for c in [m, s] {
+        c.write(Register::Jtrdel1, 2);
+        c.write(Register::Jtrdel2, 3);
+    }
+}
+
 /// Reads `n` RAM words from `at`.
 pub fn words(c: &mut Chip, at: u16, n: u16) -> Vec<u16> {
     (0..n).map(|i| c.read_ram(at + i)).collect()
