@@ -149,8 +149,9 @@ impl LineEvents {
     }
 
     /// The RDIST value after every scheduled change, when no RDIST change is scheduled
-    /// after `at` (`None` otherwise).
-    fn rdist_at_end_if_last(&self, at: Instant) -> Option<bool> {
+    /// after `at` (`None` otherwise): an RDIST change of that value at `at` or later would be
+    /// dropped (`push`).
+    pub(crate) fn rdist_at_end_if_last(&self, at: Instant) -> Option<bool> {
         debug_assert_eq!(self.rdist_last, self.compute_rdist_last());
         match self.rdist_last {
             Some((t, v)) => (t <= at).then_some(v),
@@ -244,12 +245,6 @@ impl LineEvents {
             }
             self.fronts = self.compute_fronts();
         }
-    }
-
-    /// The RDIST value after every scheduled change, when none is scheduled after `at`: an
-    /// RDIST change of that value at `at` or later would be dropped (`push`).
-    pub(crate) fn rdist_settled(&self, at: Instant) -> Option<bool> {
-        self.rdist_at_end_if_last(at)
     }
 
     /// What the queues hold, for comparisons in debug builds and tests.

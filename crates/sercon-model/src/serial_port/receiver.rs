@@ -253,7 +253,7 @@ impl Receiver {
                 .as_ref()
                 .is_some_and(|l| l.then_filler && l.bit_time == bt && !l.distorted)
             && self.level_at(seg.start) == Some(seg.level_before)
-            && events.rdist_settled(seg.start) == Some(false)
+            && events.rdist_at_end_if_last(seg.start) == Some(false)
     }
 
     /// [`Receiver::input`] of a segment [`Receiver::is_filler_to_filler`] accepts, with only
