@@ -220,29 +220,32 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
             overrun = true;
             break;
         };
-        record.extend(src.chunks_exact(2).map(|p| match p {
-            [lo, hi] => u16::from_le_bytes([*lo, *hi]),
-            // chunks_exact(2) gives pairs only.
-            _ => 0,
-        }));
+        let words = le_words(src);
         match buffering {
             // RFIFO collects the block's DMA receive data; words of an earlier block still
             // unread are an overrun (spec-notes "Master DMA layout").
-            Buffering::Dma => fifo_overrun |= chip.tp.fifo.store_rx(block, &record),
-            // Double buffer: write the buffer that is not valid (VAL selects the valid one).
+            Buffering::Dma => {
+                record.extend(words);
+                fifo_overrun |= chip.tp.fifo.store_rx(block, &record);
+            }
+            // Double buffer: write the buffer that is not valid (VAL selects the valid one),
+            // straight from the telegram (the record only for a service container).
             _ => {
                 let dst = c.buffer(buffering, !h.val);
-                match walk::words_mut(&mut chip.ram, dst, record.len()) {
-                    Some(words) => words.copy_from_slice(&record),
+                match walk::words_mut(&mut chip.ram, dst, len) {
+                    Some(ram) => ram.iter_mut().zip(words).for_each(|(r, w)| *r = w),
                     // Only the words inside the RAM are written (the walk keeps containers
                     // inside).
                     None => {
-                        for (i, w) in record.iter().enumerate() {
-                            walk::set_word(&mut chip.ram, dst + i as u32, *w);
+                        for (i, w) in words.enumerate() {
+                            walk::set_word(&mut chip.ram, dst + i as u32, w);
                         }
                     }
                 }
-                super::output_bound::ram_written(chip, dst, record.len());
+                super::output_bound::ram_written(chip, dst, len);
+                if c.control.svfl {
+                    record.extend(le_words(src));
+                }
             }
         }
         if c.control.svfl {
@@ -264,6 +267,15 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
     if fifo_overrun {
         prog_error(chip, ProgErr::DmaFifo);
     }
+}
+
+/// The little-endian words of `bytes` (410B §4.2.2: the telegram's data words low byte
+/// first); `chunks_exact(2)` gives pairs only.
+fn le_words(bytes: &[u8]) -> impl Iterator<Item = u16> + '_ {
+    bytes.chunks_exact(2).map(|p| match p {
+        [lo, hi] => u16::from_le_bytes([*lo, *hi]),
+        _ => 0,
+    })
 }
 
 /// Service containers of an errored or missing telegram record RECERR (410B §4.2.4).
