@@ -105,6 +105,29 @@ pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHeader) {
     }
 }
 
+/// Appends the `n` words of a container (`data`) to the telegram in `buf`, which holds
+/// `words` data words of at most `tlen`: words past TLEN are not sent, a container overrun
+/// (410B §4.2.1 TLEN); little-endian words (410B §4.2.2), written in one go.
+fn append_words(
+    buf: &mut Vec<u8>,
+    data: impl Iterator<Item = u16>,
+    n: usize,
+    tlen: usize,
+    words: &mut usize,
+    overrun: &mut bool,
+) {
+    let take = n.min(tlen.saturating_sub(*words));
+    *overrun |= take < n;
+    let at = buf.len();
+    buf.resize(at + 2 * take, 0);
+    if let Some(dst) = buf.get_mut(at..) {
+        for (d, w) in dst.chunks_exact_mut(2).zip(data) {
+            d.copy_from_slice(&w.to_le_bytes());
+        }
+    }
+    *words += take;
+}
+
 /// Builds ADR and the data words of the telegram in `chip.tp.txbuf`.
 // 410B §4.2.1 ADR, TLEN ("Length of the telegram in data words (not including address)");
 // §4.2.2: the data containers in order, from the valid buffer or the transmit FIFO.
@@ -134,6 +157,30 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
     let walk_error = walk.error;
     for c in list.iter() {
         let len = usize::from(c.control.len);
+        if buffering != Buffering::Dma && !c.control.svfl {
+            // The usual container: its words go from the valid buffer straight into the
+            // telegram (no record in between).
+            let from = c.buffer(buffering, hdr.val);
+            let ram = &chip.ram;
+            match walk::words(ram, from, len) {
+                Some(data) => {
+                    append_words(
+                        &mut buf,
+                        data.iter().copied(),
+                        len,
+                        tlen,
+                        &mut words,
+                        &mut overrun,
+                    );
+                }
+                // Words outside the RAM read as 0 (the walk keeps containers inside).
+                None => {
+                    let data = (0..len).map(|i| walk::word(ram, from + i as u32).unwrap_or(0));
+                    append_words(&mut buf, data, len, tlen, &mut words, &mut overrun);
+                }
+            }
+            continue;
+        }
         record.clear();
         match buffering {
             Buffering::Dma => {
@@ -147,17 +194,11 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
                     }
                 }
             }
+            // A service container's record (words outside the RAM read as 0).
             _ => {
                 let from = c.buffer(buffering, hdr.val);
-                match walk::words(&chip.ram, from, len) {
-                    Some(words) => record.extend_from_slice(words),
-                    // Words outside the RAM read as 0 (the walk keeps containers inside).
-                    None => {
-                        for i in 0..len {
-                            record.push(walk::word(&chip.ram, from + i as u32).unwrap_or(0));
-                        }
-                    }
-                }
+                let ram = &chip.ram;
+                record.extend((0..len).map(|i| walk::word(ram, from + i as u32).unwrap_or(0)));
             }
         }
         if c.control.svfl {
@@ -173,18 +214,15 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
             raise_sc(chip, nsv, o.int_sc);
             super::output_bound::ram_rewritten(chip);
         }
-        // Words past TLEN are not sent (410B §4.2.1 TLEN): a container overrun.
-        let take = record.len().min(tlen.saturating_sub(words));
-        overrun |= take < record.len();
-        // Little-endian words (410B §4.2.2), written into the telegram in one go.
-        let at = buf.len();
-        buf.resize(at + 2 * take, 0);
-        if let Some(dst) = buf.get_mut(at..) {
-            for (d, w) in dst.chunks_exact_mut(2).zip(record.iter()) {
-                d.copy_from_slice(&w.to_le_bytes());
-            }
-        }
-        words += take;
+        let n = record.len();
+        append_words(
+            &mut buf,
+            record.iter().copied(),
+            n,
+            tlen,
+            &mut words,
+            &mut overrun,
+        );
     }
     // Containers shorter than TLEN: the rest of the telegram is sent as 0.
     buf.resize(buf.len() + 2 * tlen.saturating_sub(words), 0);
