@@ -128,6 +128,12 @@ fn append_words(
     *words += take;
 }
 
+/// The `len` RAM words from `from`, those outside the RAM read as 0 (the walk keeps
+/// containers inside).
+fn words_or_zero(ram: &[u16], from: u32, len: usize) -> impl Iterator<Item = u16> + '_ {
+    (0..len).map(move |i| walk::word(ram, from + i as u32).unwrap_or(0))
+}
+
 /// Builds ADR and the data words of the telegram in `chip.tp.txbuf`.
 // 410B §4.2.1 ADR, TLEN ("Length of the telegram in data words (not including address)");
 // §4.2.2: the data containers in order, from the valid buffer or the transmit FIFO.
@@ -173,9 +179,8 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
                         &mut overrun,
                     );
                 }
-                // Words outside the RAM read as 0 (the walk keeps containers inside).
                 None => {
-                    let data = (0..len).map(|i| walk::word(ram, from + i as u32).unwrap_or(0));
+                    let data = words_or_zero(ram, from, len);
                     append_words(&mut buf, data, len, tlen, &mut words, &mut overrun);
                 }
             }
@@ -194,11 +199,10 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
                     }
                 }
             }
-            // A service container's record (words outside the RAM read as 0).
+            // A service container's record.
             _ => {
                 let from = c.buffer(buffering, hdr.val);
-                let ram = &chip.ram;
-                record.extend((0..len).map(|i| walk::word(ram, from + i as u32).unwrap_or(0)));
+                record.extend(words_or_zero(&chip.ram, from, len));
             }
         }
         if c.control.svfl {
