@@ -34,6 +34,7 @@ pub(crate) fn set_word(ram: &mut [u16], addr: u32, value: u16) {
 /// Decodes the structure a header pointer points at.
 // ERRATA "telegram header marker bits": 00 receive, 01 transmit, 11 end marker; 10 is no
 // structure at all, which the model reports as a list without end marker.
+#[inline]
 pub(crate) fn header_at(ram: &[u16], variant: Variant, addr: u16) -> Result<Header, ProgErr> {
     let start = usize::from(addr);
     let words = ram.get(start..).ok_or(ProgErr::OutsideRam)?;
