@@ -3,7 +3,7 @@
 
 use sercon_regs::Variant;
 use sercon_regs::ram::container::ContainerControl;
-use sercon_regs::ram::header::{Buffering, Header, HeaderKind};
+use sercon_regs::ram::header::{Buffering, EndMarker, Header, HeaderKind, RxHeader, TxHeader};
 
 use super::status::ProgErr;
 
@@ -34,15 +34,40 @@ pub(crate) fn set_word(ram: &mut [u16], addr: u32, value: u16) {
 /// Decodes the structure a header pointer points at.
 // ERRATA "telegram header marker bits": 00 receive, 01 transmit, 11 end marker; 10 is no
 // structure at all, which the model reports as a list without end marker.
+#[inline]
 pub(crate) fn header_at(ram: &[u16], variant: Variant, addr: u16) -> Result<Header, ProgErr> {
     let start = usize::from(addr);
     let words = ram.get(start..).ok_or(ProgErr::OutsideRam)?;
     let w0 = words.first().copied().ok_or(ProgErr::OutsideRam)?;
     let kind = HeaderKind::classify(w0).map_err(|_| ProgErr::NoEndMarker)?;
-    if words.len() < kind.words() {
-        return Err(ProgErr::OutsideRam);
+    // The structure's words as a fixed array, decoded by its kind's own decoder:
+    // `Header::decode` would classify word 0 again and check the length through a
+    // `Result` of its own (410B §4.2.1 receive / transmit header, §4.2.3 end marker).
+    let header = match kind {
+        HeaderKind::Receive => RxHeader::from_words(variant, fixed(words)?).map(Header::Receive),
+        HeaderKind::Transmit => TxHeader::from_words(variant, fixed(words)?).map(Header::Transmit),
+        HeaderKind::EndMarker => EndMarker::from_words(fixed(words)?).map(Header::End),
     }
-    Header::decode(variant, words).map_err(|_| ProgErr::OutsideRam)
+    .map_err(|_| ProgErr::OutsideRam);
+    debug_assert_eq!(
+        header,
+        if words.len() < kind.words() {
+            Err(ProgErr::OutsideRam)
+        } else {
+            Header::decode(variant, words).map_err(|_| ProgErr::OutsideRam)
+        },
+        "header_at: the kind's decoder differs from Header::decode"
+    );
+    header
+}
+
+/// The first `N` words of `words`; a structure that does not fit reaches past the RAM's
+/// end.
+fn fixed<const N: usize>(words: &[u16]) -> Result<[u16; N], ProgErr> {
+    words
+        .get(..N)
+        .and_then(|w| <[u16; N]>::try_from(w).ok())
+        .ok_or(ProgErr::OutsideRam)
 }
 
 /// One data container as the walk found it.
