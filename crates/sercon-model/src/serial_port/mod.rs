@@ -205,7 +205,23 @@ impl SerialPort {
     /// then to `frames`, in order.
     pub(crate) fn line_input<F: FnMut(HeardFrame)>(&mut self, seg: LineSegment, mut frames: F) {
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
-        let fwd = (self.cfg.tx_mode == TxMode::Repeat).then(|| self.forwarded(seg.clone()));
+        let fwd = (self.cfg.tx_mode == TxMode::Repeat).then(|| {
+            if self.tx.carried_forwarding {
+                // A copy the user carries is only followed: its hint is never read (a
+                // resume cuts it; spec-notes "Followed copies"), so it is not copied.
+                self.forwarded(LineSegment {
+                    start: seg.start,
+                    bit_time: seg.bit_time,
+                    signal: seg.signal.clone(),
+                    level_before: seg.level_before,
+                    hint: None,
+                    distorted: seg.distorted,
+                    then_filler: seg.then_filler,
+                })
+            } else {
+                self.forwarded(seg.clone())
+            }
+        });
         let log = &mut self.rx_log;
         let mut sink = |f: HeardFrame| {
             log.push(&f);

@@ -64,7 +64,8 @@ pub(crate) struct Transmitter {
     /// The background segment in effect (the last one whose start has passed), as queued,
     /// unless `last_is_bg` says it is `last_out` (then it is not copied at its release).
     bg_active: Option<LineSegment>,
-    /// `last_out` is the background segment in effect, released as queued (not inverted).
+    /// `last_out` is the background segment in effect, released (or followed) as queued,
+    /// not inverted (a followed copy's inversion is `last_inv`).
     last_is_bg: bool,
     /// The own telegram released last ends here; until then the background is shadowed.
     own_until: Instant,
@@ -74,8 +75,12 @@ pub(crate) struct Transmitter {
     /// and `resume_at`, kept up to date by every change of those: asked on every turn of an
     /// event loop, it is then a load, not two queue fronts.
     next_release: Option<Instant>,
-    /// The output segment released last, without its hint (only its levels are asked for).
+    /// The output segment released last, without its hint (only its levels are asked for);
+    /// for a carried copy, the copy as queued (its levels inverted when `last_inv`).
     last_out: Option<LineSegment>,
+    /// The line's levels are those of `last_out` inverted: a carried copy followed from the
+    /// other level than its own (`Transmitter::follow`), kept as queued, not inverted.
+    last_inv: bool,
     /// Released segments the simulation has not taken yet.
     released: Vec<LineSegment>,
     /// End of the last own telegram queued.
@@ -173,7 +178,11 @@ impl Transmitter {
 
     /// The light level of the output line at `t` (at or after the last release).
     pub(crate) fn level_at(&self, t: Instant) -> bool {
-        self.last_out.as_ref().is_some_and(|s| s.level_at(t))
+        // An inverted segment's level is the other one at every instant (bits, dark and
+        // light swapped, filler from the other level): `LineSegment::inverted`.
+        self.last_out
+            .as_ref()
+            .is_some_and(|s| s.level_at(t) != self.last_inv)
     }
 
     /// The instant the next output segment starts, if one is queued.
@@ -266,6 +275,7 @@ impl Transmitter {
                     // The background in effect is about to be shadowed: keep it for the
                     // resume (its start has passed, so the hint it lost is not needed).
                     self.bg_active = self.last_out.take();
+                    self.last_inv = false;
                 }
                 self.own_until = seg.end().unwrap_or(t);
                 self.resume_at = Some(self.own_until);
@@ -293,15 +303,25 @@ impl Transmitter {
                     // A forwarded telegram after an own one continues from the level the
                     // line is at, as own telegrams do (NRZI decodes it the same; without
                     // this its first flag bit would be lost downstream).
-                    // A copy the user carries is only followed, not released.
-                    if matches!(seg.signal, LineSignal::Bits(_))
-                        && seg.level_before != self.level_at(t)
-                    {
+                    let invert = matches!(seg.signal, LineSignal::Bits(_))
+                        && seg.level_before != self.level_at(t);
+                    if carried {
+                        // A copy the user carries is only followed, not released.
+                        #[cfg(debug_assertions)]
+                        let expected = self.followed_general(&seg, invert);
+                        self.follow(seg, invert);
+                        #[cfg(debug_assertions)]
+                        debug_assert_eq!(
+                            expected,
+                            self.followed_digest(),
+                            "a followed copy differs from the general path's"
+                        );
+                    } else if invert {
                         self.bg_active = Some(seg.clone());
-                        self.put_out(seg.inverted(), carried);
+                        self.emit(seg.inverted());
                     } else {
                         self.bg_active = None;
-                        self.put_out(seg, carried);
+                        self.emit(seg);
                         self.last_is_bg = true;
                     }
                 } else {
@@ -371,15 +391,70 @@ impl Transmitter {
         self.next_release = self.compute_next_release();
     }
 
-    /// Emits `seg`, or, for a copy the user carries, only makes it the line's last segment.
-    fn put_out(&mut self, seg: LineSegment, carried: bool) {
-        if !carried {
-            self.emit(seg);
-            return;
-        }
-        self.last_out = Some(LineSegment { hint: None, ..seg });
-        self.last_is_bg = false;
+    /// Follows a copy the user carries that starts when no own telegram shadows it: it
+    /// becomes the line's last segment and the background in effect, as queued; `invert`:
+    /// the line is at the other level than its `level_before`, so its levels are inverted
+    /// (410B §1 repeater; spec-notes "Followed copies"). What the general path
+    /// ([`Transmitter::followed_general`]) keeps, without the inverted bits, the copy for
+    /// the resume and the hint.
+    fn follow(&mut self, seg: LineSegment, invert: bool) {
+        self.bg_active = None;
+        self.last_out = Some(seg);
+        self.last_inv = invert;
+        self.last_is_bg = true;
         self.implied_open = false;
+    }
+
+    /// What the general path leaves after following `seg` ([`Transmitter::follow`]): the
+    /// copy kept for the resume, and, as the line's last segment, the copy without its hint,
+    /// inverted when the line is at the other level (a check in debug builds).
+    #[cfg(debug_assertions)]
+    fn followed_general(&self, seg: &LineSegment, invert: bool) -> String {
+        let mut general = self.clone();
+        let seg = seg.clone();
+        if invert {
+            general.bg_active = Some(seg.clone());
+            general.last_out = Some(LineSegment {
+                hint: None,
+                ..seg.inverted()
+            });
+            general.last_is_bg = false;
+        } else {
+            general.bg_active = None;
+            general.last_out = Some(LineSegment { hint: None, ..seg });
+            general.last_is_bg = true;
+        }
+        general.last_inv = false;
+        general.implied_open = false;
+        general.followed_digest()
+    }
+
+    /// What the state after a followed copy says for every later use: the line's levels
+    /// (its last segment, inversion applied), the background resumed after an own telegram
+    /// (`bg_active`, or `last_out` while it is the background), without hints (never read
+    /// from a copy that is only followed: a resume cuts it, `LineSegment::from_instant`).
+    #[cfg(debug_assertions)]
+    fn followed_digest(&self) -> String {
+        let bare = |s: &LineSegment| LineSegment {
+            hint: None,
+            ..s.clone()
+        };
+        let line = self.last_out.as_ref().map(|s| {
+            if self.last_inv {
+                bare(s).inverted()
+            } else {
+                bare(s)
+            }
+        });
+        let bg = if self.last_is_bg {
+            self.last_out.as_ref().map(bare)
+        } else {
+            self.bg_active.as_ref().map(bare)
+        };
+        format!(
+            "{line:?} {bg:?} {} {:?} {} {:?}",
+            self.implied_open, self.resume_at, self.silent_resume, self.own_until
+        )
     }
 
     fn emit(&mut self, seg: LineSegment) {
@@ -396,6 +471,7 @@ impl Transmitter {
             distorted: seg.distorted,
             then_filler: seg.then_filler,
         });
+        self.last_inv = false;
         self.last_is_bg = false;
         self.implied_open = false;
     }
