@@ -34,6 +34,8 @@ mod plain_pass;
 #[cfg(test)]
 mod run_ahead_tests;
 #[cfg(test)]
+mod short_path_tests;
+#[cfg(test)]
 mod test_lcg;
 #[cfg(test)]
 mod test_state;
@@ -45,6 +47,9 @@ use wake_queue::WakeQueue;
 
 /// `Simulation::plain_hop` of a node a slave telegram does not pass by delays alone.
 const NOT_PLAIN: u64 = u64::MAX;
+
+/// `Simulation::rewake_done` without a node.
+const NO_NODE: usize = usize::MAX;
 
 /// Rounds of "serve the nodes an event touched" per event before giving up on quiet.
 const MAX_SETTLE_ROUNDS: usize = 1024;
@@ -116,6 +121,10 @@ pub struct Simulation {
     /// is set again, after the touched ones are served.
     rewake: Vec<usize>,
     is_rewake: Vec<bool>,
+    /// A node taken out of `rewake` (still marked in `is_rewake`) because its own wake set
+    /// its wake after its input (`wake_node`): `set_rewakes` would find the same wake
+    /// again. An input after that puts it back (`deliver`).
+    rewake_done: usize,
     buf: Vec<LineSegment>,
     pins: Vec<PinEvent>,
     bus_busy_until: Instant,
@@ -148,6 +157,9 @@ pub struct Simulation {
     /// Quiet wakes skip the touched list ([`Simulation::wake_node`]); off only in tests
     /// that compare both ways.
     light_wakes: bool,
+    /// The short path of `wake_node` (`rewake_done`); off only in tests that compare both
+    /// ways.
+    short_paths: bool,
     /// A ring whose hosts are all inert ([`HostProgram::inert`]): a slave's chip may run
     /// ahead to the end of the master's telegram it was just given ([`Simulation::run_ahead`]).
     run_ahead_ok: bool,
@@ -339,6 +351,7 @@ impl Simulation {
             is_touched: vec![false; n],
             rewake: Vec::new(),
             is_rewake: vec![false; n],
+            rewake_done: NO_NODE,
             buf: Vec::new(),
             pins: Vec::new(),
             bus_busy_until: Instant::ZERO,
@@ -347,6 +360,7 @@ impl Simulation {
             host_nesting: 0,
             held_error: None,
             light_wakes: true,
+            short_paths: true,
             run_ahead_ok,
             run_to: Instant::ZERO,
             plain_pass: None,
@@ -511,6 +525,18 @@ impl Simulation {
         // found last (only hosts, power and clock faults change it, and they serve the node).
         self.route_outputs(j);
         self.set_wake(j);
+        // Its own output came back to it (the master's telegram round the ring), the last
+        // node so left: its wake was just set after that input, so `set_rewakes` would
+        // find the same one unless more comes (`deliver` then puts it back). Not for a
+        // parked node (that wake gives way to the one found).
+        if self.short_paths
+            && self.rewake.last() == Some(&j)
+            && self.rewake_done == NO_NODE
+            && self.nodes.get(j).is_some_and(|n| !n.parked)
+        {
+            self.rewake.pop();
+            self.rewake_done = j;
+        }
         Ok(true)
     }
 
@@ -556,13 +582,25 @@ impl Simulation {
         self.set_rewakes();
     }
 
-    /// Sets the wakes of the nodes deliveries left to be rescheduled only.
+    /// Sets the wakes of the nodes deliveries left to be rescheduled only (`rewake_done`'s
+    /// was set after them).
     fn set_rewakes(&mut self) {
         while let Some(j) = self.rewake.pop() {
             if let Some(r) = self.is_rewake.get_mut(j) {
                 *r = false;
             }
             self.set_wake(j);
+        }
+        let j = std::mem::replace(&mut self.rewake_done, NO_NODE);
+        if j != NO_NODE {
+            if let Some(r) = self.is_rewake.get_mut(j) {
+                *r = false;
+            }
+            debug_assert!(
+                self.next_wake(j)
+                    .is_none_or(|w| Some(w) == self.nodes.get(j).map(|n| n.wake)),
+                "a node's wake set at its own wake moved before the event's end"
+            );
         }
     }
 
@@ -908,7 +946,12 @@ impl Simulation {
         // that the wake it would get is not earlier.
         if ahead && node.quiet_host() && !self.is_touched.get(j).copied().unwrap_or(true) {
             if self.is_rewake.get(j).copied().unwrap_or(false) {
-                // Its wake is set once the event's nodes are served, after this input too.
+                // Its wake is set once the event's nodes are served, after this input too
+                // (found again even when its own wake set it meanwhile, `set_rewakes`).
+                if self.rewake_done == j {
+                    self.rewake_done = NO_NODE;
+                    self.rewake.push(j);
+                }
                 return;
             }
             // A parked node's wake is no wake of its own (`Simulation::park`).
