@@ -157,8 +157,8 @@ pub struct Simulation {
     /// Quiet wakes skip the touched list ([`Simulation::wake_node`]); off only in tests
     /// that compare both ways.
     light_wakes: bool,
-    /// The short path of `wake_node` (`rewake_done`); off only in tests that compare both
-    /// ways.
+    /// The short paths of `wake_node` (`rewake_done`) and `early_route`
+    /// (`unserve_sent_on`); off only in tests that compare both ways.
     short_paths: bool,
     /// A ring whose hosts are all inert ([`HostProgram::inert`]): a slave's chip may run
     /// ahead to the end of the master's telegram it was just given ([`Simulation::run_ahead`]).

@@ -1,21 +1,69 @@
 //! The simulator's short paths (`Simulation::short_paths`: a woken node's wake not set
-//! twice, `rewake_done`) against the same rings without them: the same
+//! twice, `rewake_done`; the slaves whose ATs were sent on not served for nothing,
+//! `early_route`'s `unserve_sent_on`) against the same rings without them: the same
 //! telegrams on every fibre, the same counters (events too), every chip the same after
 //! every step, intact and with every kind of fault.
 
+use sercon_regs::SerconBus;
+use sercon_regs::value::control::Ctrl3;
+use sercon_regs::value::interrupt::IntFlagsLo;
 use sercos_wire::time::Instant;
 
 use super::SimStats;
 use super::run_ahead_tests::{STEP, Watch, any_fault, run_with, six_slaves, us};
 use crate::fault::{Fault, FaultKind};
-use crate::host::HostProgram;
+use crate::host::{HostProgram, Wake};
 use crate::static_ring::StaticRing;
+
+/// A slave's static host that also enables INT0 on its own telegram's end (410B §4.1 6H
+/// INT_TEND, 3H ENINT0) and clears every flag of 4H when woken for it: its chip's INT0 rises
+/// inside a run past its AT, so the slave is not quiet when its AT is sent on. It calls
+/// itself inert so that slaves still run ahead: the runs with and without the short paths
+/// must still agree.
+struct Clearing(Box<dyn HostProgram>);
+
+impl HostProgram for Clearing {
+    fn wake(&mut self, bus: &mut dyn SerconBus, now: Instant, why: Wake) -> Option<Instant> {
+        let next = self.0.wake(bus, now, why);
+        match why {
+            Wake::Start | Wake::PowerOn => {
+                bus.write_register(6, IntFlagsLo::INT_TEND.bits());
+                let r3 = bus.read_register(3);
+                bus.write_register(3, r3 | Ctrl3::ENINT0.bits());
+            }
+            Wake::Interrupt { .. } => bus.write_register(4, 0xffff),
+            _ => {}
+        }
+        next
+    }
+
+    fn inert(&self) -> bool {
+        true
+    }
+}
 
 /// Runs `ring` with and without the short paths, in steps of [`STEP`] and in one run, logged
 /// and quiet, and asserts the same outcome; returns the quiet one-run counters.
 fn same_either_way(ring: &StaticRing, faults: &[Fault], until: Instant, what: &str) -> SimStats {
+    same_either_way_hosts(ring, faults, until, what, false)
+}
+
+/// [`same_either_way`], the slaves' hosts [`Clearing`] if `clearing`.
+fn same_either_way_hosts(
+    ring: &StaticRing,
+    faults: &[Fault],
+    until: Instant,
+    what: &str,
+    clearing: bool,
+) -> SimStats {
     let whole = until.saturating_duration_since(Instant::ZERO);
-    let wrap = |_: usize, h: Box<dyn HostProgram>| h;
+    let wrap = |i: usize, h: Box<dyn HostProgram>| -> Box<dyn HostProgram> {
+        if clearing && i > 0 {
+            Box::new(Clearing(h))
+        } else {
+            h
+        }
+    };
     let mut last = SimStats::default();
     for watch in [Watch::Logged, Watch::Quiet] {
         for step in [STEP, whole] {
@@ -39,11 +87,18 @@ fn same_either_way(ring: &StaticRing, faults: &[Fault], until: Instant, what: &s
 #[test]
 fn an_intact_ring_runs_the_same_without_the_short_paths() {
     let quiet = same_either_way(&six_slaves(), &[], us(1600), "6 slaves");
+    // The ATs were sent on (the slaves then touched for nothing, `unserve_sent_on`).
     assert!(quiet.ats_sent_on >= 6 * 4, "{quiet:?}");
     let mut long = StaticRing::new(20, 2000);
     long.bit_rate = sercos_wire::time::BitRate::Mbit4;
     let quiet = same_either_way(&long, &[], us(10_000), "20 slaves at 4 Mbit/s");
     assert!(quiet.ats_sent_on >= 20 * 3, "{quiet:?}");
+}
+
+#[test]
+fn slaves_with_interrupts_run_the_same_without_the_short_paths() {
+    let quiet = same_either_way_hosts(&six_slaves(), &[], us(1600), "6 clearing slaves", true);
+    assert!(quiet.ats_sent_on > 0, "{quiet:?}");
 }
 
 #[test]
