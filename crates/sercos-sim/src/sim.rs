@@ -1157,7 +1157,7 @@ impl Simulation {
         }
         node.wake = Some(g);
         node.parked = true;
-        self.queue.set(j, g);
+        self.queue.park(j, g);
         self.stats.parked_wakes += 1;
         true
     }
