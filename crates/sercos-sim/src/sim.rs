@@ -134,6 +134,10 @@ pub struct Simulation {
     out_floors: OutFloors,
     /// Delay of each fibre (dense copy of `segments[k].delay`).
     seg_delays: Vec<Duration>,
+    /// A ring whose every fibre is `Segment::plain` and no node has power windows (fixed
+    /// when the simulation is made): `propagate` skips the checks of fibre faults, traces,
+    /// splits and power windows per hop.
+    plain_ring: bool,
     /// The shortest fibre's delay, if not zero (`host_run`: no signal gets from one node to
     /// another faster).
     min_fibre_delay: Option<Duration>,
@@ -336,6 +340,9 @@ impl Simulation {
                 .min()
                 .filter(|d| *d > Duration::ZERO),
             seg_delays: seg_delays.clone(),
+            plain_ring: ring
+                && segments.iter().all(|s| s.plain)
+                && nodes.iter().all(|nd| nd.off_windows.is_empty()),
             plain_hop: vec![NOT_PLAIN; n],
             run_end: (0..n).collect(),
             static_plain,
@@ -739,6 +746,8 @@ impl Simulation {
         // a run of plain repeaters (410B §1: "The slaves regenerate and repeat their received
         // data") it only moves by fibre delay plus repeater latency, hop after hop, without
         // touching the nodes.
+        // The repeaters' latency, 410B §1 (found at the first repeater).
+        let mut lat: Option<Duration> = None;
         let passes = fast
             && origin != 0
             && enter
@@ -749,7 +758,7 @@ impl Simulation {
             }
             // The next node round the ring (no division: this runs at every hop).
             let next = if cur + 1 >= n { 0 } else { cur + 1 };
-            if seg.then_filler && enter && self.splits_filler(cur) {
+            if seg.then_filler && enter && !self.plain_ring && self.splits_filler(cur) {
                 // The fibre's faults or traces take the telegram and its filler apart.
                 let (bits, filler) = seg.split_filler();
                 self.propagate(cur, bits, origin, true);
@@ -758,30 +767,49 @@ impl Simulation {
                 }
                 return;
             }
-            let Some(s) = self.segments.get_mut(cur) else {
-                return;
-            };
-            if enter && !s.plain {
-                if s.keep_last {
-                    s.last_entered = Some((seg.clone(), origin));
-                }
-                // A clean fibre (the usual case) leaves the segment as it is.
-                if !s.faults.is_clean() {
-                    if s.faults.broken_at(seg.start) {
-                        return;
+            if !self.plain_ring {
+                let Some(s) = self.segments.get_mut(cur) else {
+                    return;
+                };
+                if enter && !s.plain {
+                    if s.keep_last {
+                        s.last_entered = Some((seg.clone(), origin));
                     }
-                    seg = s.faults.apply(seg);
-                }
-                if self.recorder.wants(cur) {
-                    self.recorder.observe(cur, &seg, origin_of(origin));
+                    // A clean fibre (the usual case) leaves the segment as it is.
+                    if !s.faults.is_clean() {
+                        if s.faults.broken_at(seg.start) {
+                            return;
+                        }
+                        seg = s.faults.apply(seg);
+                    }
+                    if self.recorder.wants(cur) {
+                        self.recorder.observe(cur, &seg, origin_of(origin));
+                    }
                 }
             }
+            debug_assert!(
+                !self.plain_ring
+                    || self.segments.get(cur).is_some_and(|s| s.plain)
+                        && self
+                            .nodes
+                            .get(next)
+                            .is_some_and(|n| n.off_windows.is_empty()),
+                "a plain ring's fibre or node is not plain"
+            );
             enter = true;
-            seg.start = seg.start.saturating_add(s.delay);
+            let Some(delay) = self.seg_delays.get(cur) else {
+                return;
+            };
+            seg.start = seg.start.saturating_add(*delay);
             let Some(node) = self.nodes.get(next) else {
                 return;
             };
-            if !node.powered_at(seg.start) {
+            // A plain ring's nodes have no power windows (`plain_ring`).
+            if !(if self.plain_ring {
+                node.powered
+            } else {
+                node.powered_at(seg.start)
+            }) {
                 return;
             }
             // Fast path: slaves ignore other slaves' telegrams (410B §1: "Only transmission
@@ -810,7 +838,9 @@ impl Simulation {
             let Some(node) = self.nodes.get_mut(next) else {
                 return;
             };
-            let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+            // The segment's bit time is the same at every hop.
+            let lat =
+                *lat.get_or_insert_with(|| seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS));
             let l_out = node.clock.to_local(seg.start).saturating_add(lat);
             seg.start = node.clock.to_global(l_out);
             seg.distorted = false;
