@@ -97,10 +97,17 @@ impl NodeClock {
     }
 
     /// The node's local time at simulation time `t` (rounded down).
+    #[inline]
     pub fn to_local(&self, t: Instant) -> Instant {
         if self.identity {
             return t;
         }
+        self.to_local_pieces(t)
+    }
+
+    /// [`NodeClock::to_local`] through the pieces (kept out of line: most clocks are exact).
+    #[inline(never)]
+    fn to_local_pieces(&self, t: Instant) -> Instant {
         let g = t.as_picos();
         let p = self.piece_global(g);
         if p.ppb == 0 {
@@ -112,10 +119,17 @@ impl NodeClock {
     }
 
     /// The first simulation time at which the node's local time has reached `local`.
+    #[inline]
     pub fn to_global(&self, local: Instant) -> Instant {
         if self.identity {
             return local;
         }
+        self.to_global_pieces(local)
+    }
+
+    /// [`NodeClock::to_global`] through the pieces (kept out of line).
+    #[inline(never)]
+    fn to_global_pieces(&self, local: Instant) -> Instant {
         let l = local.as_picos();
         let p = self.piece_local(l);
         if p.ppb == 0 {

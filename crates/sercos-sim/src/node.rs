@@ -199,6 +199,7 @@ impl Node {
     /// from that level.
     /// `out_floor` is how far the node's output line is taken (simulation time; kept by
     /// the simulation in one dense table so that a forwarding hop touches nothing else).
+    #[inline]
     pub(crate) fn put_out(&mut self, out_floor: &mut Instant, seg: &mut LineSegment, own: bool) {
         seg.start = seg.start.max(*out_floor);
         if !self.track_levels {
@@ -207,6 +208,12 @@ impl Node {
             *out_floor = seg.end().unwrap_or(seg.start);
             return;
         }
+        self.put_out_tracked(out_floor, seg, own);
+    }
+
+    /// [`Node::put_out`] following the output's level (reference path; out of line).
+    #[inline(never)]
+    fn put_out_tracked(&mut self, out_floor: &mut Instant, seg: &mut LineSegment, own: bool) {
         if let Some(last) = &self.last_out {
             let level = last.level_at(seg.start);
             match seg.signal {

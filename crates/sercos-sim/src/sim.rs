@@ -34,6 +34,8 @@ mod plain_pass;
 #[cfg(test)]
 mod run_ahead_tests;
 #[cfg(test)]
+mod short_path_tests;
+#[cfg(test)]
 mod test_lcg;
 #[cfg(test)]
 mod test_state;
@@ -45,6 +47,9 @@ use wake_queue::WakeQueue;
 
 /// `Simulation::plain_hop` of a node a slave telegram does not pass by delays alone.
 const NOT_PLAIN: u64 = u64::MAX;
+
+/// `Simulation::rewake_done` without a node.
+const NO_NODE: usize = usize::MAX;
 
 /// Rounds of "serve the nodes an event touched" per event before giving up on quiet.
 const MAX_SETTLE_ROUNDS: usize = 1024;
@@ -116,6 +121,10 @@ pub struct Simulation {
     /// is set again, after the touched ones are served.
     rewake: Vec<usize>,
     is_rewake: Vec<bool>,
+    /// A node taken out of `rewake` (still marked in `is_rewake`) because its own wake set
+    /// its wake after its input (`wake_node`): `set_rewakes` would find the same wake
+    /// again. An input after that puts it back (`deliver`).
+    rewake_done: usize,
     buf: Vec<LineSegment>,
     pins: Vec<PinEvent>,
     bus_busy_until: Instant,
@@ -125,6 +134,10 @@ pub struct Simulation {
     out_floors: OutFloors,
     /// Delay of each fibre (dense copy of `segments[k].delay`).
     seg_delays: Vec<Duration>,
+    /// A ring whose every fibre is `Segment::plain` and no node has power windows (fixed
+    /// when the simulation is made): `propagate` skips the checks of fibre faults, traces,
+    /// splits and power windows per hop.
+    plain_ring: bool,
     /// The shortest fibre's delay, if not zero (`host_run`: no signal gets from one node to
     /// another faster).
     min_fibre_delay: Option<Duration>,
@@ -148,6 +161,9 @@ pub struct Simulation {
     /// Quiet wakes skip the touched list ([`Simulation::wake_node`]); off only in tests
     /// that compare both ways.
     light_wakes: bool,
+    /// The short paths of `wake_node` (`rewake_done`) and `early_route`
+    /// (`unserve_sent_on`); off only in tests that compare both ways.
+    short_paths: bool,
     /// A ring whose hosts are all inert ([`HostProgram::inert`]): a slave's chip may run
     /// ahead to the end of the master's telegram it was just given ([`Simulation::run_ahead`]).
     run_ahead_ok: bool,
@@ -324,6 +340,9 @@ impl Simulation {
                 .min()
                 .filter(|d| *d > Duration::ZERO),
             seg_delays: seg_delays.clone(),
+            plain_ring: ring
+                && segments.iter().all(|s| s.plain)
+                && nodes.iter().all(|nd| nd.off_windows.is_empty()),
             plain_hop: vec![NOT_PLAIN; n],
             run_end: (0..n).collect(),
             static_plain,
@@ -339,6 +358,7 @@ impl Simulation {
             is_touched: vec![false; n],
             rewake: Vec::new(),
             is_rewake: vec![false; n],
+            rewake_done: NO_NODE,
             buf: Vec::new(),
             pins: Vec::new(),
             bus_busy_until: Instant::ZERO,
@@ -347,6 +367,7 @@ impl Simulation {
             host_nesting: 0,
             held_error: None,
             light_wakes: true,
+            short_paths: true,
             run_ahead_ok,
             run_to: Instant::ZERO,
             plain_pass: None,
@@ -511,6 +532,18 @@ impl Simulation {
         // found last (only hosts, power and clock faults change it, and they serve the node).
         self.route_outputs(j);
         self.set_wake(j);
+        // Its own output came back to it (the master's telegram round the ring), the last
+        // node so left: its wake was just set after that input, so `set_rewakes` would
+        // find the same one unless more comes (`deliver` then puts it back). Not for a
+        // parked node (that wake gives way to the one found).
+        if self.short_paths
+            && self.rewake.last() == Some(&j)
+            && self.rewake_done == NO_NODE
+            && self.nodes.get(j).is_some_and(|n| !n.parked)
+        {
+            self.rewake.pop();
+            self.rewake_done = j;
+        }
         Ok(true)
     }
 
@@ -556,13 +589,25 @@ impl Simulation {
         self.set_rewakes();
     }
 
-    /// Sets the wakes of the nodes deliveries left to be rescheduled only.
+    /// Sets the wakes of the nodes deliveries left to be rescheduled only (`rewake_done`'s
+    /// was set after them).
     fn set_rewakes(&mut self) {
         while let Some(j) = self.rewake.pop() {
             if let Some(r) = self.is_rewake.get_mut(j) {
                 *r = false;
             }
             self.set_wake(j);
+        }
+        let j = std::mem::replace(&mut self.rewake_done, NO_NODE);
+        if j != NO_NODE {
+            if let Some(r) = self.is_rewake.get_mut(j) {
+                *r = false;
+            }
+            debug_assert!(
+                self.next_wake(j)
+                    .is_none_or(|w| Some(w) == self.nodes.get(j).map(|n| n.wake)),
+                "a node's wake set at its own wake moved before the event's end"
+            );
         }
     }
 
@@ -701,6 +746,8 @@ impl Simulation {
         // a run of plain repeaters (410B §1: "The slaves regenerate and repeat their received
         // data") it only moves by fibre delay plus repeater latency, hop after hop, without
         // touching the nodes.
+        // The repeaters' latency, 410B §1 (found at the first repeater).
+        let mut lat: Option<Duration> = None;
         let passes = fast
             && origin != 0
             && enter
@@ -711,7 +758,7 @@ impl Simulation {
             }
             // The next node round the ring (no division: this runs at every hop).
             let next = if cur + 1 >= n { 0 } else { cur + 1 };
-            if seg.then_filler && enter && self.splits_filler(cur) {
+            if seg.then_filler && enter && !self.plain_ring && self.splits_filler(cur) {
                 // The fibre's faults or traces take the telegram and its filler apart.
                 let (bits, filler) = seg.split_filler();
                 self.propagate(cur, bits, origin, true);
@@ -720,30 +767,49 @@ impl Simulation {
                 }
                 return;
             }
-            let Some(s) = self.segments.get_mut(cur) else {
-                return;
-            };
-            if enter && !s.plain {
-                if s.keep_last {
-                    s.last_entered = Some((seg.clone(), origin));
-                }
-                // A clean fibre (the usual case) leaves the segment as it is.
-                if !s.faults.is_clean() {
-                    if s.faults.broken_at(seg.start) {
-                        return;
+            if !self.plain_ring {
+                let Some(s) = self.segments.get_mut(cur) else {
+                    return;
+                };
+                if enter && !s.plain {
+                    if s.keep_last {
+                        s.last_entered = Some((seg.clone(), origin));
                     }
-                    seg = s.faults.apply(seg);
-                }
-                if self.recorder.wants(cur) {
-                    self.recorder.observe(cur, &seg, origin_of(origin));
+                    // A clean fibre (the usual case) leaves the segment as it is.
+                    if !s.faults.is_clean() {
+                        if s.faults.broken_at(seg.start) {
+                            return;
+                        }
+                        seg = s.faults.apply(seg);
+                    }
+                    if self.recorder.wants(cur) {
+                        self.recorder.observe(cur, &seg, origin_of(origin));
+                    }
                 }
             }
+            debug_assert!(
+                !self.plain_ring
+                    || self.segments.get(cur).is_some_and(|s| s.plain)
+                        && self
+                            .nodes
+                            .get(next)
+                            .is_some_and(|n| n.off_windows.is_empty()),
+                "a plain ring's fibre or node is not plain"
+            );
             enter = true;
-            seg.start = seg.start.saturating_add(s.delay);
+            let Some(delay) = self.seg_delays.get(cur) else {
+                return;
+            };
+            seg.start = seg.start.saturating_add(*delay);
             let Some(node) = self.nodes.get(next) else {
                 return;
             };
-            if !node.powered_at(seg.start) {
+            // A plain ring's nodes have no power windows (`plain_ring`).
+            if !(if self.plain_ring {
+                node.powered
+            } else {
+                node.powered_at(seg.start)
+            }) {
                 return;
             }
             // Fast path: slaves ignore other slaves' telegrams (410B §1: "Only transmission
@@ -772,7 +838,9 @@ impl Simulation {
             let Some(node) = self.nodes.get_mut(next) else {
                 return;
             };
-            let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+            // The segment's bit time is the same at every hop.
+            let lat =
+                *lat.get_or_insert_with(|| seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS));
             let l_out = node.clock.to_local(seg.start).saturating_add(lat);
             seg.start = node.clock.to_global(l_out);
             seg.distorted = false;
@@ -908,7 +976,12 @@ impl Simulation {
         // that the wake it would get is not earlier.
         if ahead && node.quiet_host() && !self.is_touched.get(j).copied().unwrap_or(true) {
             if self.is_rewake.get(j).copied().unwrap_or(false) {
-                // Its wake is set once the event's nodes are served, after this input too.
+                // Its wake is set once the event's nodes are served, after this input too
+                // (found again even when its own wake set it meanwhile, `set_rewakes`).
+                if self.rewake_done == j {
+                    self.rewake_done = NO_NODE;
+                    self.rewake.push(j);
+                }
                 return;
             }
             // A parked node's wake is no wake of its own (`Simulation::park`).
@@ -1114,7 +1187,7 @@ impl Simulation {
         }
         node.wake = Some(g);
         node.parked = true;
-        self.queue.set(j, g);
+        self.queue.park(j, g);
         self.stats.parked_wakes += 1;
         true
     }

@@ -50,9 +50,73 @@ impl Simulation {
             }
             self.buf = out;
             self.stats.ats_sent_on += deferred.len() as u64;
+            if self.short_paths {
+                self.unserve_sent_on(&deferred);
+            }
         }
         deferred.clear();
         self.deferred = deferred;
+    }
+
+    /// The slaves whose ATs were just sent on, touched by their delivery because that AT
+    /// was due in their chips (`deliver`), would now be served for nothing: their host
+    /// quiet (INT0/INT1 as it last saw them, 410B §2; no deadline due), nothing traced, no output left up to the simulation's time (the take above
+    /// went up to the chip's), and whether a slave's telegram passes them plainly
+    /// (`refresh_hop`) unchanged (only hosts, power and clock faults change it). Such a
+    /// slave only has its wake set, once the event's nodes are served, as `deliver` leaves
+    /// a node with nothing to serve. Debug builds check that the serve would do nothing.
+    fn unserve_sent_on(&mut self, sent: &[usize]) {
+        let now = self.now;
+        let mut any = false;
+        for &j in sent {
+            let Some(node) = self.nodes.get(j) else {
+                continue;
+            };
+            if !self.is_touched.get(j).copied().unwrap_or(false)
+                || self.is_rewake.get(j).copied().unwrap_or(true)
+                || !node.quiet_host()
+                || node.chip.line_output_due_at(node.clock.to_local(now))
+            {
+                continue;
+            }
+            debug_assert!(
+                self.serve_does_nothing(j),
+                "a slave whose AT was sent on would be served for something"
+            );
+            if let Some(t) = self.is_touched.get_mut(j) {
+                *t = false;
+            }
+            if let Some(r) = self.is_rewake.get_mut(j) {
+                *r = true;
+                self.rewake.push(j);
+            }
+            any = true;
+        }
+        if any {
+            let touched = &self.is_touched;
+            self.touched
+                .retain(|&k| touched.get(k).copied().unwrap_or(false));
+        }
+    }
+
+    /// Whether `serve` would do nothing for node `j` but what `set_wake` does (debug
+    /// builds): powered, no host due, nothing traced, no output due, its plain hop as
+    /// found last.
+    fn serve_does_nothing(&self, j: usize) -> bool {
+        let Some(node) = self.nodes.get(j) else {
+            return false;
+        };
+        let plain = self.static_plain.get(j).copied().unwrap_or(false)
+            && node.powered
+            && node.repeating
+            && node.clock.is_identity();
+        let hop_same = (self.plain_hop.get(j) == Some(&super::NOT_PLAIN)) != plain;
+        node.powered
+            && node.vcd.is_none()
+            && node.quiet_host()
+            && !node.chip.line_output_due_at(node.clock.to_local(self.now))
+            && self.deferred.is_empty()
+            && hop_same
     }
 
     /// Whether the ATs of `deferred` may go now (the module's conditions).

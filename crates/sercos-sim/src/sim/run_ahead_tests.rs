@@ -12,7 +12,7 @@ use crate::host::{HostProgram, Wake};
 use crate::static_ring::StaticRing;
 use crate::trace::LogFormat;
 
-fn us(n: u64) -> Instant {
+pub(super) fn us(n: u64) -> Instant {
     Instant::ZERO + Duration::from_micros(n)
 }
 
@@ -36,19 +36,19 @@ impl HostProgram for Polling {
 
 /// What a run leaves: the text log of every fibre, the counters, and every chip's
 /// registers 0H–1FH and RAM at the end; every chip's time and registers after every step.
-struct Outcome {
-    log: String,
-    stats: SimStats,
-    chips: Vec<u16>,
-    steps: Vec<(Vec<Instant>, Vec<u16>)>,
+pub(super) struct Outcome {
+    pub(super) log: String,
+    pub(super) stats: SimStats,
+    pub(super) chips: Vec<u16>,
+    pub(super) steps: Vec<(Vec<Instant>, Vec<u16>)>,
 }
 
 /// Steps of `run_until` (a chip read after a run is at its end, run ahead or not).
-const STEP: Duration = Duration::from_micros(7);
+pub(super) const STEP: Duration = Duration::from_micros(7);
 
 /// How a run is watched.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Watch {
+pub(super) enum Watch {
     /// Every fibre's telegrams logged (a traced fibre carries a telegram and its filler
     /// apart, so slaves run ahead only to the end of the master's telegram).
     Logged,
@@ -65,7 +65,25 @@ fn run(
     faults: &[Fault],
     (ahead, polling): (bool, bool),
     watch: Watch,
+    steps: (Duration, Instant),
+) -> Outcome {
+    let wrap = |_: usize, h: Box<dyn HostProgram>| -> Box<dyn HostProgram> {
+        if polling { Box::new(Polling(h)) } else { h }
+    };
+    run_with(ring, faults, &wrap, watch, steps, &|sim| {
+        sim.run_ahead_ok &= ahead;
+    })
+}
+
+/// [`run`] with node `i`'s host given by `wrap(i, host)` and `configure` applied to the
+/// simulation before it runs.
+pub(super) fn run_with(
+    ring: &StaticRing,
+    faults: &[Fault],
+    wrap: &dyn Fn(usize, Box<dyn HostProgram>) -> Box<dyn HostProgram>,
+    watch: Watch,
     (step, until): (Duration, Instant),
+    configure: &dyn Fn(&mut Simulation),
 ) -> Outcome {
     let Ok((mut cfg, hosts, _)) = ring.build() else {
         panic!("the ring fits");
@@ -74,18 +92,15 @@ fn run(
         cfg.traces.log = Some(LogFormat::Text);
     }
     cfg.faults = faults.to_vec();
-    let hosts: Vec<Box<dyn HostProgram>> = if polling {
-        hosts
-            .into_iter()
-            .map(|h| -> Box<dyn HostProgram> { Box::new(Polling(h)) })
-            .collect()
-    } else {
-        hosts
-    };
+    let hosts: Vec<Box<dyn HostProgram>> = hosts
+        .into_iter()
+        .enumerate()
+        .map(|(i, h)| wrap(i, h))
+        .collect();
     let Ok(mut sim) = Simulation::new(cfg, hosts) else {
         panic!("the simulation builds");
     };
-    sim.run_ahead_ok &= ahead;
+    configure(&mut sim);
     let mut steps = Vec::new();
     let mut t = Instant::ZERO;
     while t < until {
@@ -179,7 +194,7 @@ fn same_run_stepped(
     ahead.stats
 }
 
-fn six_slaves() -> StaticRing {
+pub(super) fn six_slaves() -> StaticRing {
     let mut ring = StaticRing::new(6, 250);
     ring.fibre_m = 30;
     ring.mdt_words = 2;
@@ -298,7 +313,7 @@ fn nothing_runs_ahead_of_a_host_that_reads_its_chip() {
 }
 
 /// One fault of any kind at `at_us` on segment or node `k` (taken modulo the ring's).
-fn any_fault(kind: u8, k: usize, at_us: u64, len_us: u64, nodes: usize) -> Fault {
+pub(super) fn any_fault(kind: u8, k: usize, at_us: u64, len_us: u64, nodes: usize) -> Fault {
     let at = us(at_us);
     let until = us(at_us + len_us);
     let seg = k % nodes;

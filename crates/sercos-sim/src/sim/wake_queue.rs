@@ -12,6 +12,13 @@
 //! next operation: the simulation almost always sets that node's next wake first, and a
 //! new key at the root is one sift down, where taking the root out and inserting the new
 //! key again cost a sift down and a sift up. Any other operation takes it out first.
+//!
+//! Parked wakes ([`WakeQueue::park`], the placeholders of `Simulation::park`) are kept out of
+//! the heap, one time per node, with a lower bound of their smallest key: every slave of an
+//! intact ring is parked again after each telegram of the master, before its placeholder
+//! is reached, so a heap entry would be moved per slave and pass for nothing. The bound is
+//! made exact (one scan of the nodes) only when it could come before the heap's first key
+//! or is asked for; events come out in the same (time, node) order as with one heap.
 
 use sercos_wire::time::Instant;
 
@@ -19,6 +26,9 @@ use super::Ev;
 
 /// `pos` of a node without a pending wake.
 const ABSENT: u32 = u32::MAX;
+
+/// `parked` entry of a node without a parked wake, and `parked_min` without any.
+const NOT_PARKED: Key = Key::MAX;
 
 /// A heap entry: the wake's time in ps above the node's index, so that one comparison orders
 /// by (time, node).
@@ -52,6 +62,13 @@ pub(super) struct WakeQueue {
     /// A node whose wake [`WakeQueue::pop_until`] handed out while its entry still sits at
     /// the heap's root (see the module notes).
     popped: Option<usize>,
+    /// Each node's parked wake as its key ([`NOT_PARKED`] without one); a node has a heap
+    /// entry or a parked wake or neither.
+    parked: Vec<Key>,
+    /// No parked key is smaller ([`NOT_PARKED`]: no node is parked).
+    parked_min: Key,
+    /// `parked_min` is a parked node's key (or [`NOT_PARKED`] with none parked).
+    parked_exact: bool,
 }
 
 impl WakeQueue {
@@ -76,6 +93,78 @@ impl WakeQueue {
             faults,
             next_fault: 0,
             popped: None,
+            parked: vec![NOT_PARKED; nodes],
+            parked_min: NOT_PARKED,
+            parked_exact: true,
+        }
+    }
+
+    /// Takes node `j`'s parked wake, if any (the bound stays a bound).
+    #[inline]
+    fn unpark(&mut self, j: usize) {
+        if let Some(p) = self.parked.get_mut(j)
+            && *p != NOT_PARKED
+        {
+            if *p == self.parked_min {
+                self.parked_exact = false;
+            }
+            *p = NOT_PARKED;
+        }
+    }
+
+    /// The smallest parked key, made exact by a scan if it was only a bound.
+    fn parked_first(&mut self) -> Key {
+        if !self.parked_exact {
+            self.parked_min = self.parked.iter().copied().min().unwrap_or(NOT_PARKED);
+            self.parked_exact = true;
+        }
+        self.parked_min
+    }
+
+    /// The first key of the heap and the parked wakes (the parked bound made exact when it
+    /// could come first), and whether it is a parked one.
+    #[inline]
+    fn first_wake(&mut self) -> Option<(Key, bool)> {
+        let heap = self.heap.first().copied().unwrap_or(NOT_PARKED);
+        if self.parked_min >= heap {
+            // Every parked key is above the heap's first (`NOT_PARKED`: none parked).
+            return (heap != NOT_PARKED).then_some((heap, false));
+        }
+        let parked = self.parked_first();
+        if parked < heap {
+            Some((parked, true))
+        } else {
+            (heap != NOT_PARKED).then_some((heap, false))
+        }
+    }
+
+    /// Sets node `j`'s one pending wake to `at` as a parked one (replacing any other): kept
+    /// out of the heap (module notes).
+    pub(super) fn park(&mut self, j: usize, at: Instant) {
+        let Ok(node) = u32::try_from(j) else {
+            return;
+        };
+        let k = key(at, node);
+        if self.popped == Some(j) {
+            self.popped = None;
+            self.remove_entry(j);
+        } else {
+            self.settle_popped();
+            if self.pos.get(j).is_some_and(|p| *p != ABSENT) {
+                self.remove_entry(j);
+            }
+        }
+        let Some(p) = self.parked.get_mut(j) else {
+            return;
+        };
+        if *p == self.parked_min {
+            self.parked_exact = false;
+        }
+        *p = k;
+        if k < self.parked_min {
+            // Below every parked key (and below the bound): the smallest.
+            self.parked_min = k;
+            self.parked_exact = true;
         }
     }
 
@@ -90,7 +179,7 @@ impl WakeQueue {
     /// The time of the next event, if any.
     pub(super) fn peek_time(&mut self) -> Option<Instant> {
         self.settle_popped();
-        let wake = self.heap.first().map(|k| key_time(*k));
+        let wake = self.first_wake().map(|(k, _)| key_time(k));
         let fault = self.faults.get(self.next_fault).map(|e| e.0);
         let t = match (wake, fault) {
             (Some(a), Some(b)) => a.min(b),
@@ -102,7 +191,8 @@ impl WakeQueue {
     /// The time of the next node wake, if any.
     pub(super) fn peek_wake_time(&mut self) -> Option<Instant> {
         self.settle_popped();
-        self.heap.first().map(|k| Instant::from_picos(key_time(*k)))
+        self.first_wake()
+            .map(|(k, _)| Instant::from_picos(key_time(k)))
     }
 
     /// The time of the next fault event, if any.
@@ -116,7 +206,7 @@ impl WakeQueue {
     pub(super) fn pop_until(&mut self, limit: Instant) -> Option<(Instant, Ev)> {
         self.settle_popped();
         let limit = limit.as_picos();
-        let wake = self.heap.first().copied().filter(|k| key_time(*k) <= limit);
+        let wake = self.first_wake().filter(|(k, _)| key_time(*k) <= limit);
         let fault = self
             .faults
             .get(self.next_fault)
@@ -124,10 +214,18 @@ impl WakeQueue {
             .filter(|e| e.0 <= limit);
         match (wake, fault) {
             // At the same time a node (component < n) runs before any fault (n + i).
-            (Some(k), f) if f.is_none_or(|f| key_time(k) <= f.0) => {
+            (Some((k, parked)), f) if f.is_none_or(|f| key_time(k) <= f.0) => {
                 let j = key_node(k) as usize;
-                // Left at the root until the next operation (module notes).
-                self.popped = Some(j);
+                if parked {
+                    // The smallest parked key: the bound stays a bound.
+                    if let Some(p) = self.parked.get_mut(j) {
+                        *p = NOT_PARKED;
+                    }
+                    self.parked_exact = false;
+                } else {
+                    // Left at the root until the next operation (module notes).
+                    self.popped = Some(j);
+                }
                 Some((Instant::from_picos(key_time(k)), Ev::Node(j)))
             }
             (_, Some((t, e))) => {
@@ -140,6 +238,7 @@ impl WakeQueue {
 
     /// Sets node `j`'s one pending wake to `at` (replacing any earlier one).
     pub(super) fn set(&mut self, j: usize, at: Instant) {
+        self.unpark(j);
         if self.popped == Some(j) {
             // Its entry is at the root: the new key moves down from there (or stays).
             self.popped = None;
@@ -165,6 +264,7 @@ impl WakeQueue {
 
     /// Removes node `j`'s pending wake, if any.
     pub(super) fn remove(&mut self, j: usize) {
+        self.unpark(j);
         if self.popped == Some(j) {
             self.popped = None;
         } else {
@@ -318,7 +418,12 @@ mod tests {
                         handles[j] = general
                             .schedule(at, ComponentId(j as u32), Ev::Node(j))
                             .ok();
-                        wakes.set(j, at);
+                        // Parked or in the heap: the same order either way.
+                        if rng.next(2) == 0 {
+                            wakes.park(j, at);
+                        } else {
+                            wakes.set(j, at);
+                        }
                     }
                 }
                 assert_eq!(general.peek_time(), wakes.peek_time(), "seed {seed}");

@@ -1,0 +1,179 @@
+//! The simulator's short paths (`Simulation::short_paths`: a woken node's wake not set
+//! twice, `rewake_done`; the slaves whose ATs were sent on not served for nothing,
+//! `early_route`'s `unserve_sent_on`) against the same rings without them: the same
+//! telegrams on every fibre, the same counters (events too), every chip the same after
+//! every step, intact and with every kind of fault.
+
+use sercon_regs::SerconBus;
+use sercon_regs::value::control::Ctrl3;
+use sercon_regs::value::interrupt::IntFlagsLo;
+use sercos_wire::time::Instant;
+
+use super::SimStats;
+use super::run_ahead_tests::{STEP, Watch, any_fault, run_with, six_slaves, us};
+use crate::fault::{Fault, FaultKind};
+use crate::host::{HostProgram, Wake};
+use crate::static_ring::StaticRing;
+
+/// A slave's static host that also enables INT0 on its own telegram's end (410B §4.1 6H
+/// INT_TEND, 3H ENINT0) and clears every flag of 4H when woken for it: its chip's INT0 rises
+/// inside a run past its AT, so the slave is not quiet when its AT is sent on. It calls
+/// itself inert so that slaves still run ahead: the runs with and without the short paths
+/// must still agree.
+struct Clearing(Box<dyn HostProgram>);
+
+impl HostProgram for Clearing {
+    fn wake(&mut self, bus: &mut dyn SerconBus, now: Instant, why: Wake) -> Option<Instant> {
+        let next = self.0.wake(bus, now, why);
+        match why {
+            Wake::Start | Wake::PowerOn => {
+                bus.write_register(6, IntFlagsLo::INT_TEND.bits());
+                let r3 = bus.read_register(3);
+                bus.write_register(3, r3 | Ctrl3::ENINT0.bits());
+            }
+            Wake::Interrupt { .. } => bus.write_register(4, 0xffff),
+            _ => {}
+        }
+        next
+    }
+
+    fn inert(&self) -> bool {
+        true
+    }
+}
+
+/// Runs `ring` with and without the short paths, in steps of [`STEP`] and in one run, logged
+/// and quiet, and asserts the same outcome; returns the quiet one-run counters.
+fn same_either_way(ring: &StaticRing, faults: &[Fault], until: Instant, what: &str) -> SimStats {
+    same_either_way_hosts(ring, faults, until, what, false)
+}
+
+/// [`same_either_way`], the slaves' hosts [`Clearing`] if `clearing`.
+fn same_either_way_hosts(
+    ring: &StaticRing,
+    faults: &[Fault],
+    until: Instant,
+    what: &str,
+    clearing: bool,
+) -> SimStats {
+    let whole = until.saturating_duration_since(Instant::ZERO);
+    let wrap = |i: usize, h: Box<dyn HostProgram>| -> Box<dyn HostProgram> {
+        if clearing && i > 0 {
+            Box::new(Clearing(h))
+        } else {
+            h
+        }
+    };
+    let mut last = SimStats::default();
+    for watch in [Watch::Logged, Watch::Quiet] {
+        for step in [STEP, whole] {
+            let run = |short: bool| {
+                run_with(ring, faults, &wrap, watch, (step, until), &|sim| {
+                    sim.short_paths = short;
+                })
+            };
+            let (long, short) = (run(false), run(true));
+            let what = format!("{what} ({watch:?}, steps of {step:?})");
+            assert_eq!(long.log, short.log, "{what}: telegram log");
+            assert_eq!(long.stats, short.stats, "{what}: counters");
+            assert_eq!(long.chips, short.chips, "{what}: registers and RAM");
+            assert_eq!(long.steps, short.steps, "{what}: chips after every step");
+            last = short.stats;
+        }
+    }
+    last
+}
+
+#[test]
+fn an_intact_ring_runs_the_same_without_the_short_paths() {
+    let quiet = same_either_way(&six_slaves(), &[], us(1600), "6 slaves");
+    // The ATs were sent on (the slaves then touched for nothing, `unserve_sent_on`).
+    assert!(quiet.ats_sent_on >= 6 * 4, "{quiet:?}");
+    let mut long = StaticRing::new(20, 2000);
+    long.bit_rate = sercos_wire::time::BitRate::Mbit4;
+    let quiet = same_either_way(&long, &[], us(10_000), "20 slaves at 4 Mbit/s");
+    assert!(quiet.ats_sent_on >= 20 * 3, "{quiet:?}");
+}
+
+#[test]
+fn slaves_with_interrupts_run_the_same_without_the_short_paths() {
+    let quiet = same_either_way_hosts(&six_slaves(), &[], us(1600), "6 clearing slaves", true);
+    assert!(quiet.ats_sent_on > 0, "{quiet:?}");
+}
+
+#[test]
+fn faults_run_the_same_without_the_short_paths() {
+    for kind in 0u8..6 {
+        for k in [0usize, 2, 4] {
+            let f = any_fault(kind, k, 520, 330, 7);
+            same_either_way(&six_slaves(), &[f], us(1500), &format!("fault {f:?}"));
+        }
+    }
+    let power = Fault {
+        at: us(600),
+        kind: FaultKind::PowerOff {
+            node: 3,
+            until: Some(us(850)),
+        },
+    };
+    same_either_way(&six_slaves(), &[power], us(1600), "power off and on");
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(32))]
+
+    // Any small ring (ATs anywhere after the MST) with up to three faults of any kind:
+    // the same run with the short paths as without.
+    #[test]
+    fn any_ring_and_faults_run_the_same_without_the_short_paths(
+        slaves in 1usize..=6,
+        cycle_us in 250u16..=500,
+        words in 1u16..=3,
+        fibre_m in 1u32..=200,
+        faults in proptest::collection::vec(
+            (0u8..6, 0usize..8, 200u64..1300, 1u64..400), 0..=3),
+        trts in proptest::option::of(proptest::collection::vec(5u16..150, 6)),
+    ) {
+        let mut ring = StaticRing::new(slaves, cycle_us);
+        ring.mdt_words = words;
+        ring.at_words = words;
+        ring.fibre_m = fibre_m;
+        ring.at_trt_override = trts;
+        proptest::prop_assume!(ring.build().is_ok());
+        let faults: Vec<Fault> = faults
+            .into_iter()
+            .map(|(kind, k, at, len)| any_fault(kind, k, at, len, slaves + 1))
+            .collect();
+        same_either_way(&ring, &faults, us(1300), "any ring");
+    }
+}
+
+// A node whose wake its own wake set after its input (`rewake_done`) gets more input in the
+// same event: it goes back on the list, so its wake is found again after that input.
+#[test]
+fn input_after_a_woken_node_set_its_wake_puts_it_back() {
+    use sercon_model::serial_port::{LineSegment, LineSignal};
+    use sercos_wire::time::Duration;
+
+    let Ok((cfg, hosts, _)) = six_slaves().build() else {
+        panic!("the ring fits");
+    };
+    let Ok(mut sim) = super::Simulation::new(cfg, hosts) else {
+        panic!("the simulation builds");
+    };
+    assert!(sim.run_until(us(700)).is_ok());
+    let Some(master) = sim.nodes.first() else {
+        panic!("a master");
+    };
+    assert!(master.quiet_host(), "the static master's host is quiet");
+    let at = master.chip.now().saturating_add(Duration::from_micros(1));
+    // As `wake_node` leaves it: marked, off the list.
+    sim.is_rewake[0] = true;
+    sim.rewake_done = 0;
+    let filler = LineSegment::steady(at, Duration::from_nanos(62), LineSignal::Filler, false);
+    sim.deliver(0, filler, 1, false);
+    assert_eq!(sim.rewake, vec![0], "back on the list");
+    assert_eq!(sim.rewake_done, super::NO_NODE);
+    sim.set_rewakes();
+    assert!(!sim.is_rewake[0] && sim.rewake.is_empty());
+}
