@@ -336,13 +336,14 @@ impl Engine {
         // 410B §4.1 4H.2/3: INT_COMBLK0/1 "start transmission block 0/1".
         self.flags.lo |= if block == 0 { INT_COMBLK0 } else { INT_COMBLK1 };
         self.outputs.divclk_until = None;
+        let start = self.plan.start;
         let run = Run {
             ref_tick: at,
             ref_e: 0,
             len,
             block,
             tcntst,
-            cursor: 0,
+            cursor: start.count,
             pulse_cycle,
         };
         self.cycle.run = Some(run);
@@ -350,9 +351,39 @@ impl Engine {
         if self.s.sends_mst() && self.s.wdog_msten {
             self.wd.trigger(at, self.s.twdog, self.pre.period());
         }
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut g = self.clone();
+            g.apply_start_entries(run);
+            g
+        };
+        // The plan's offset-0 entries taken together (`CyclePlan::start`), as
+        // `Engine::apply_start_entries` applies them one by one (debug builds compare):
+        // 410B §4.1 1AH–1DH / 5H.9-12 INT_TIMEn at TINTn = TCNTST, 0CH.5 CON_CLK set at
+        // TINT0 and reset at TINT1; 1EH–20H a DIV_CLK pulse (with INT_DIVCLK, 5H.13) at
+        // TDIVCLK = TCNTST, in DIVCLKMODE = 1 only in the chosen cycles (816 §2.7).
+        self.flags.hi |= start.set_hi;
+        if let Some(level) = start.conclk {
+            self.outputs.conclk_set = level;
+        }
+        if start.divclk_pulse && (!self.s.divclkmode || pulse_cycle) {
+            self.flags.hi |= INT_DIVCLK;
+            self.outputs.divclk_until = Some(1.min(len));
+        }
+        #[cfg(debug_assertions)]
+        assert_eq!(&general, self, "a cycle start's entries in one go");
+    }
+
+    /// Applies the plan's entries at offset 0 one by one to the cycle `run` just started
+    /// (its cursor still at 0 there), leaving the cursor after them: the general path of
+    /// [`Engine::start_cycle_block`]'s, kept for comparing.
+    #[cfg(debug_assertions)]
+    fn apply_start_entries(&mut self, mut run: Run) {
+        run.cursor = 0;
+        self.cycle.run = Some(run);
         let mut cursor = 0;
         while let Some(entry) = self.plan.entries.get(cursor).copied() {
-            if entry.e != 0 || entry.e >= len {
+            if entry.e != 0 || entry.e >= run.len {
                 break;
             }
             self.apply_entry(&run, entry);
