@@ -138,9 +138,17 @@ impl Chip {
                 debug_assert_eq!(core, self.compute_next_core(), "stale next_core");
                 let next = earliest(core, self.serial_next_loud_event());
                 if next.is_none_or(|n| n > t) {
-                    // Nothing due up to `t` but levels of untraced serial-port pins.
+                    // Nothing due up to `t` but levels of untraced serial-port pins and a
+                    // quiet cycle end.
                     self.serial_apply_pin_levels(t);
                     self.now = t;
+                    let quiet = match self.engine.next_memo {
+                        Some((_, quiet)) => quiet,
+                        None => self.engine.next_ticks_memo().1,
+                    };
+                    if quiet != u64::MAX && self.clock.instant(quiet) <= t {
+                        self.engine.end_quietly(quiet);
+                    }
                     self.apply_quiet_events(None);
                     return;
                 }
@@ -152,11 +160,15 @@ impl Chip {
                 Some(memo) => memo,
                 None => crate::telegram_processor::next_tick(self),
             };
+            let mut quiet;
             let next_ticks = loop {
                 debug_assert_eq!(tp_next, crate::telegram_processor::next_tick(self));
                 // The timing control goes first at equal ticks: a cycle start sends the
-                // MST before the telegram processor's events of that tick.
-                let engine_next = self.engine.next_tick_memo();
+                // MST before the telegram processor's events of that tick. A quiet cycle end
+                // (`quiet`, `u64::MAX` for none) is no event: it is applied before the
+                // first step at or after it (spec-notes "Quiet cycle ends").
+                let engine_next;
+                (engine_next, quiet) = self.engine.next_ticks_memo();
                 let engine_tick = engine_next.filter(|k| *k <= limit);
                 let tp_tick = tp_next.filter(|k| *k <= limit);
                 // The serial port's changes (exact instants) go before MCLK ticks at or
@@ -203,6 +215,10 @@ impl Chip {
                         let flags = self.engine.flags;
                         let mut k = first;
                         loop {
+                            if k >= quiet && quiet != u64::MAX {
+                                self.engine.end_quietly(quiet);
+                                quiet = u64::MAX;
+                            }
                             crate::telegram_processor::step(self, k);
                             tp_next = crate::telegram_processor::next_tick(self);
                             // The processor's next event, when it comes before anything
@@ -242,6 +258,9 @@ impl Chip {
                     _ => break (engine_next, tp_next),
                 }
             };
+            if quiet <= limit && quiet != u64::MAX {
+                self.engine.end_quietly(quiet);
+            }
             let tick = match next_ticks {
                 (Some(a), Some(b)) => Some(a.min(b)),
                 (a, b) => a.or(b),
@@ -552,6 +571,17 @@ impl Chip {
     /// comparing them; spec-notes "Chained processor steps").
     pub fn set_chained_steps(&mut self, on: bool) {
         self.chained_steps = on;
+    }
+
+    /// Whether a quiet end of a communication cycle — one that leaves nothing but the cycle
+    /// state changed: no flag, no pulse, no next cycle, typically a slave's cycle ending on
+    /// the tick its next MST synchronises it — is applied where the state is next read
+    /// instead of being an event of the timing control (on after [`Chip::new`]). Off, every
+    /// cycle end is an event: the two read and emit the same (a switch for comparing them;
+    /// spec-notes "Quiet cycle ends").
+    pub fn set_quiet_cycle_ends(&mut self, on: bool) {
+        self.touched();
+        self.engine.quiet_ends = on;
     }
 
     /// The pins currently traced.

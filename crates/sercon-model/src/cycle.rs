@@ -66,6 +66,10 @@ impl Engine {
 
     /// TCNT at tick `tick` (410B §4.1 11H RDCNT → 12H TCNTLT).
     pub(crate) fn tcnt_at(&self, tick: u64) -> u16 {
+        debug_assert!(
+            self.quiet_end().is_none_or(|q| q >= tick),
+            "quiet end skipped"
+        );
         match &self.cycle.run {
             // spec-notes "TCNT": loaded with TCNTST at the cycle start, +1 per µs.
             Some(run) => (u64::from(run.tcntst) + self.e_at(run, tick)) as u16,
@@ -74,27 +78,102 @@ impl Engine {
     }
 
     /// The tick of the next cycle start (the running cycle's end, 410B §4.1 10H/12H TSCYC, or
-    /// a triggered start pending): no earlier than [`Engine::cycle_next_tick`].
+    /// a triggered start pending): no earlier than the first of [`Engine::cycle_ticks`].
     pub(crate) fn next_cycle_start(&self) -> Option<u64> {
         let run_end = self.cycle.run.as_ref().map(|run| self.e_tick(run, run.len));
         run_end.into_iter().chain(self.cycle.pending).min()
     }
 
-    /// The next tick of the cycle machinery (pending start, plan entry, pulse end, end).
-    pub(crate) fn cycle_next_tick(&self) -> Option<u64> {
-        let run_tick = self.cycle.run.as_ref().map(|run| {
-            let mut e = run.len;
-            if let Some(entry) = self.plan.entries.get(run.cursor) {
-                e = e.min(entry.e);
+    /// The MCLK tick of the running cycle's end when that end is *quiet*, which
+    /// [`Engine::next_tick`] leaves out: it is all that is left of the cycle (every plan
+    /// entry before it done, no DIV_CLK pulse running, no triggered start pending) and it
+    /// changes nothing but the cycle state itself: no INT_COMEND (the telegram processor
+    /// runs, MSTEN or ENTMT: spec-notes "INT_COMEND"), no next cycle (NCYC counted down to
+    /// this one, 410B §4.1 0CH.12-15; a slave's cycle synchronised by an MST, 410B §4.2.1
+    /// TRT). Such an end moves no pin and raises no flag, so it is no event of its own:
+    /// whatever reads the cycle state at or after it (the telegram processor's next step,
+    /// the timing control's next step, the end of an advance) applies it first
+    /// ([`Engine::end_quietly`]; spec-notes "Quiet cycle ends").
+    pub(crate) fn quiet_end(&self) -> Option<u64> {
+        self.cycle_ticks().1
+    }
+
+    /// The next tick of the cycle machinery (pending start, plan entry, pulse end, end; a
+    /// quiet end is none) and [`Engine::quiet_end`], in one go.
+    pub(crate) fn cycle_ticks(&self) -> (Option<u64>, Option<u64>) {
+        let Some(run) = self.cycle.run.as_ref() else {
+            return (self.cycle.pending, None);
+        };
+        let mut e = run.len;
+        if let Some(entry) = self.plan.entries.get(run.cursor) {
+            e = e.min(entry.e);
+        }
+        let tick = if let Some(until) = self.outputs.divclk_until {
+            self.e_tick(run, e.min(until))
+        } else {
+            let tick = self.e_tick(run, e);
+            if e == run.len
+                && self.quiet_ends
+                && !self.cycle.continuous
+                && self.cycle.cycles_left <= 1
+                && self.cycle.pending.is_none()
+                && (self.s.msten || self.regs.stored(sercon_regs::Register::Ctrl3) & (1 << 8) != 0)
+                // u64::MAX stands for "none" in the event loop (and is never reached).
+                && tick != u64::MAX
+            {
+                return (None, Some(tick));
             }
-            if let Some(until) = self.outputs.divclk_until {
-                e = e.min(until);
+            tick
+        };
+        match self.cycle.pending {
+            Some(p) => (Some(tick.min(p)), None),
+            None => (Some(tick), None),
+        }
+    }
+
+    /// Applies the quiet end at tick `end` ([`Engine::quiet_end`]): the running cycle ends
+    /// naturally, as its own step at `end` would end it (debug builds run that step on a
+    /// copy and compare): TCNT holds TSCYC's match, one cycle fewer is left, and nothing
+    /// else changes (no flag, no pulse, no next cycle). The next tick stands (the end was
+    /// not part of it).
+    pub(crate) fn end_quietly(&mut self, end: u64) {
+        debug_assert_eq!(self.quiet_end(), Some(end), "not a quiet end");
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut g = self.clone();
+            g.quiet_ends = false;
+            let step = g.step_general(end);
+            (g, step)
+        };
+        if let Some(run) = self.cycle.run.take() {
+            // 410B §4.1 12H: TCNT stops at the end's offset, `len` (`end` is below
+            // u64::MAX, so `e_tick` did not saturate: `e_at(end)` is `len`, or the
+            // reference offset when a rebase at the end itself put it there).
+            self.cycle.tcnt_hold = (u64::from(run.tcntst) + run.len.max(run.ref_e)) as u16;
+            self.cycle.cycles_left = self.cycle.cycles_left.saturating_sub(1);
+        }
+        if let Some((next, _)) = self.next_memo {
+            self.next_memo = Some((next, u64::MAX));
+        }
+        #[cfg(debug_assertions)]
+        {
+            let (mut g, step) = general;
+            assert_eq!(
+                step,
+                crate::engine::Step {
+                    tick: end,
+                    changed: 0,
+                    expired: false,
+                    cycle_started: false
+                },
+                "a quiet end is no event"
+            );
+            g.quiet_ends = self.quiet_ends;
+            g.next_memo = self.next_memo;
+            assert_eq!(&g, self, "quiet end against the end's own step");
+            if let Some(memo) = self.next_memo {
+                assert_eq!(memo, (self.next_tick(), u64::MAX), "quiet end memo");
             }
-            self.e_tick(run, e)
-        });
-        match (run_tick, self.cycle.pending) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
         }
     }
 
@@ -118,6 +197,10 @@ impl Engine {
     /// Moves the running cycle's reference point to tick `at` (before the predivider's
     /// phase or period changes).
     pub(crate) fn rebase(&mut self, at: u64) {
+        debug_assert!(
+            self.quiet_end().is_none_or(|q| q >= at),
+            "quiet end skipped"
+        );
         if let Some(run) = self.cycle.run {
             let e = self.e_at(&run, at);
             if let Some(r) = self.cycle.run.as_mut() {
@@ -131,6 +214,10 @@ impl Engine {
     /// see the new values from the next µs on (spec-notes "timing registers written
     /// mid-cycle").
     pub(crate) fn replan_running(&mut self, at: u64) {
+        debug_assert!(
+            self.quiet_end().is_none_or(|q| q >= at),
+            "quiet end skipped"
+        );
         self.plan_key = None;
         let Some(run) = self.cycle.run else { return };
         let done = self.e_at(&run, at);
@@ -249,13 +336,14 @@ impl Engine {
         // 410B §4.1 4H.2/3: INT_COMBLK0/1 "start transmission block 0/1".
         self.flags.lo |= if block == 0 { INT_COMBLK0 } else { INT_COMBLK1 };
         self.outputs.divclk_until = None;
+        let start = self.plan.start;
         let run = Run {
             ref_tick: at,
             ref_e: 0,
             len,
             block,
             tcntst,
-            cursor: 0,
+            cursor: start.count,
             pulse_cycle,
         };
         self.cycle.run = Some(run);
@@ -263,9 +351,39 @@ impl Engine {
         if self.s.sends_mst() && self.s.wdog_msten {
             self.wd.trigger(at, self.s.twdog, self.pre.period());
         }
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut g = self.clone();
+            g.apply_start_entries(run);
+            g
+        };
+        // The plan's offset-0 entries taken together (`CyclePlan::start`), as
+        // `Engine::apply_start_entries` applies them one by one (debug builds compare):
+        // 410B §4.1 1AH–1DH / 5H.9-12 INT_TIMEn at TINTn = TCNTST, 0CH.5 CON_CLK set at
+        // TINT0 and reset at TINT1; 1EH–20H a DIV_CLK pulse (with INT_DIVCLK, 5H.13) at
+        // TDIVCLK = TCNTST, in DIVCLKMODE = 1 only in the chosen cycles (816 §2.7).
+        self.flags.hi |= start.set_hi;
+        if let Some(level) = start.conclk {
+            self.outputs.conclk_set = level;
+        }
+        if start.divclk_pulse && (!self.s.divclkmode || pulse_cycle) {
+            self.flags.hi |= INT_DIVCLK;
+            self.outputs.divclk_until = Some(1.min(len));
+        }
+        #[cfg(debug_assertions)]
+        assert_eq!(&general, self, "a cycle start's entries in one go");
+    }
+
+    /// Applies the plan's entries at offset 0 one by one to the cycle `run` just started
+    /// (its cursor still at 0 there), leaving the cursor after them: the general path of
+    /// [`Engine::start_cycle_block`]'s, kept for comparing.
+    #[cfg(debug_assertions)]
+    fn apply_start_entries(&mut self, mut run: Run) {
+        run.cursor = 0;
+        self.cycle.run = Some(run);
         let mut cursor = 0;
         while let Some(entry) = self.plan.entries.get(cursor).copied() {
-            if entry.e != 0 || entry.e >= len {
+            if entry.e != 0 || entry.e >= run.len {
                 break;
             }
             self.apply_entry(&run, entry);
@@ -310,6 +428,11 @@ impl Engine {
     // 410B §4.2.1 TRT "after end of MST": the MST synchronises the slave (spec-notes
     // "slave cycle").
     pub(crate) fn sync_cycle(&mut self, at: u64, block: u8) {
+        // A quiet end before `at` was applied before the telegram processor's step.
+        debug_assert!(
+            self.quiet_end().is_none_or(|q| q >= at),
+            "quiet end skipped"
+        );
         self.next_memo = None;
         self.cycle.pending = None;
         if self.cycle.run.is_some() {

@@ -24,11 +24,26 @@ pub(crate) struct PlanEntry {
     pub(crate) divclk_pulse: bool,
 }
 
+/// What the entries at offset 0 (the cycle start) do together, in their order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct StartEntries {
+    /// How many entries lie at offset 0 (the first of the others follows them).
+    pub(crate) count: usize,
+    /// The flags of 5H they set.
+    pub(crate) set_hi: u16,
+    /// The CON_CLK flip-flop as the last of them leaves it (TINT1 after TINT0 wins).
+    pub(crate) conclk: Option<bool>,
+    /// One of them starts a DIV_CLK pulse.
+    pub(crate) divclk_pulse: bool,
+}
+
 /// The events of a cycle with a given configuration, sorted by offset.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub(crate) struct CyclePlan {
     /// Entries sorted by `e`; at equal `e`, TINT0 before TINT1 (so TINT1 wins).
     pub(crate) entries: Vec<PlanEntry>,
+    /// The entries at offset 0 taken together: a cycle start applies them in one go.
+    pub(crate) start: StartEntries,
 }
 
 /// The first offset after `after` at which TCNT, started at `tcntst`, equals `value`.
@@ -100,7 +115,14 @@ impl CyclePlan {
         }
         // Stable sort keeps TINT0 before TINT1 at equal offsets.
         entries.sort_by_key(|en| en.e);
-        CyclePlan { entries }
+        let mut start = StartEntries::default();
+        for entry in entries.iter().take_while(|en| en.e == 0) {
+            start.count += 1;
+            start.set_hi |= entry.set_hi;
+            start.conclk = entry.conclk.or(start.conclk);
+            start.divclk_pulse |= entry.divclk_pulse;
+        }
+        CyclePlan { entries, start }
     }
 
     /// Index of the first entry after offset `e`.

@@ -36,7 +36,7 @@ pub(crate) struct Step {
 }
 
 /// The whole time-dependent state of one chip except its RAM.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct Engine {
     pub(crate) variant: Variant,
     pub(crate) regs: RegisterFile,
@@ -52,9 +52,13 @@ pub(crate) struct Engine {
     /// 410B §4.1 12H TCNTLT: TCNT latched by RDCNT.
     pub(crate) tcntlt: u16,
     pub(crate) levels: Levels,
-    /// [`Engine::next_tick`] as last computed; `None` after a change that may move it
-    /// (a step, a cycle synchronised by an MST, anything from outside the chip).
-    pub(crate) next_memo: Option<Option<u64>>,
+    /// [`Engine::next_tick`] and [`Engine::quiet_end`] (`u64::MAX` for none) as last
+    /// computed; `None` after a change that may move them (a step, a cycle synchronised by
+    /// an MST, anything from outside the chip).
+    pub(crate) next_memo: Option<(Option<u64>, u64)>,
+    /// A quiet cycle end is no event of its own ([`Engine::quiet_end`]); off, every end is
+    /// a step (a switch for comparing both, `Chip::set_quiet_cycle_ends`).
+    pub(crate) quiet_ends: bool,
 }
 
 impl Engine {
@@ -77,6 +81,7 @@ impl Engine {
             tcntlt: 0,
             levels: [false; 5],
             next_memo: None,
+            quiet_ends: true,
         };
         engine.levels = engine.compute_levels();
         engine
@@ -124,26 +129,34 @@ impl Engine {
         self.update_levels()
     }
 
-    /// The next tick at which anything is scheduled.
+    /// The next tick at which anything is scheduled (a quiet cycle end is not,
+    /// [`Engine::quiet_end`]).
     pub(crate) fn next_tick(&self) -> Option<u64> {
-        let c = self.cycle_next_tick();
-        let w = self.wd.next_tick();
-        match (c, w) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        self.next_ticks().0
     }
 
-    /// [`Engine::next_tick`], remembered until the state changes (the event loop asks on
-    /// every turn; most turns are the telegram processor's, which leave it alone).
-    pub(crate) fn next_tick_memo(&mut self) -> Option<u64> {
-        if let Some(next) = self.next_memo {
-            debug_assert_eq!(next, self.next_tick(), "stale engine next tick");
-            return next;
+    /// [`Engine::next_tick`] and [`Engine::quiet_end`] (`u64::MAX` for none).
+    fn next_ticks(&self) -> (Option<u64>, u64) {
+        let (c, quiet) = self.cycle_ticks();
+        let w = self.wd.next_tick();
+        let next = match (c, w) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        (next, quiet.unwrap_or(u64::MAX))
+    }
+
+    /// [`Engine::next_tick`] and [`Engine::quiet_end`] (`u64::MAX` for none), remembered
+    /// until the state changes (the event loop asks on every turn; most turns are the
+    /// telegram processor's, which leave both alone).
+    pub(crate) fn next_ticks_memo(&mut self) -> (Option<u64>, u64) {
+        if let Some(memo) = self.next_memo {
+            debug_assert_eq!(memo, self.next_ticks(), "stale engine next tick");
+            return memo;
         }
-        let next = self.next_tick();
-        self.next_memo = Some(next);
-        next
+        let memo = self.next_ticks();
+        self.next_memo = Some(memo);
+        memo
     }
 
     /// Processes the next scheduled tick if it is at or before `limit`.
@@ -155,8 +168,23 @@ impl Engine {
         Some(self.step_tick(tick))
     }
 
-    /// Processes tick `tick`, which must be [`Engine::next_tick`].
+    /// Processes tick `tick`, which must be [`Engine::next_tick`]; a quiet cycle end before
+    /// it ([`Engine::quiet_end`]) first.
     pub(crate) fn step_tick(&mut self, tick: u64) -> Step {
+        let quiet = match self.next_memo {
+            Some((_, quiet)) => quiet,
+            None => self.quiet_end().unwrap_or(u64::MAX),
+        };
+        if quiet < tick {
+            // At `tick` itself the cycle tick below ends the cycle the same way.
+            self.end_quietly(quiet);
+        }
+        self.step_general(tick)
+    }
+
+    /// [`Engine::step_tick`] without the quiet end first: every event at `tick`, the cycle
+    /// machinery's as scheduled in full.
+    pub(crate) fn step_general(&mut self, tick: u64) -> Step {
         self.next_memo = None;
         // Cycle events first: an MST start at the expiry tick retriggers the watchdog
         // in time (spec-notes "same-tick order").

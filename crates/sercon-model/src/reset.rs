@@ -14,7 +14,11 @@ use crate::engine::Engine;
 pub(crate) fn reset_state(chip: &mut Chip, at: u64) {
     // 816 §2.6.2: "Reset of these control bits through hardware, respectively software
     // reset has higher priority than reset through INT_WDOG": the reset values win.
-    chip.engine = Engine::after_reset(chip.cfg.variant, &chip.cfg.straps, at);
+    chip.engine = Engine {
+        // A switch of the model, not a register: it survives the reset.
+        quiet_ends: chip.engine.quiet_ends,
+        ..Engine::after_reset(chip.cfg.variant, &chip.cfg.straps, at)
+    };
     // The telegram processor stops; frames already on their way are still delivered.
     let queued = std::mem::take(&mut chip.tp.rx_queue);
     chip.tp = Default::default();
