@@ -255,7 +255,29 @@ impl Transmitter {
     }
 
     /// Releases every output segment that starts at or before `now`.
+    ///
+    /// Takes two short paths of the general loop ([`Transmitter::release_with`]); debug
+    /// builds run the general loop on a copy and compare the whole state.
     pub(crate) fn release(&mut self, now: Instant) {
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut general = self.clone();
+            general.release_with::<false>(now);
+            format!("{general:?}")
+        };
+        self.release_with::<true>(now);
+        #[cfg(debug_assertions)]
+        debug_assert_eq!(
+            general,
+            format!("{self:?}"),
+            "the release's short paths differ from the general loop"
+        );
+    }
+
+    /// [`Transmitter::release`]; `SHORT`: with its short paths (a run of carried copies
+    /// followed as one, the silent resume after an own telegram taken with it), which leave
+    /// the same state as the general loop's turns one by one.
+    fn release_with<const SHORT: bool>(&mut self, now: Instant) {
         loop {
             // The queues' fronts once per turn.
             let (own_at, bg_at) = self.fronts();
@@ -292,6 +314,12 @@ impl Transmitter {
                 let open = seg.then_filler;
                 self.emit(seg);
                 self.implied_open = open;
+                if SHORT && open && self.own_until <= now && self.resume_stays_silent() {
+                    // The silent resume (spec-notes "Implied filler") is due: what its turn
+                    // does, without the turn.
+                    self.resume_at = None;
+                    self.silent_resume = false;
+                }
             } else if bg_at == Some(t) {
                 let Some(Queued { seg, carried }) = self.background.pop_front() else {
                     break;
@@ -307,6 +335,11 @@ impl Transmitter {
                         && seg.level_before != self.level_at(t);
                     if carried {
                         // A copy the user carries is only followed, not released.
+                        let (seg, invert) = if SHORT {
+                            self.skip_followed(seg, invert, own_at, now)
+                        } else {
+                            (seg, invert)
+                        };
                         #[cfg(debug_assertions)]
                         let expected = self.followed_general(&seg, invert);
                         self.follow(seg, invert);
@@ -389,6 +422,49 @@ impl Transmitter {
             }
         }
         self.next_release = self.compute_next_release();
+    }
+
+    /// Whether the resume at `own_until` is taken as a silent one by the release loop
+    /// whatever comes before it: no background segment starts before it (one would be
+    /// shadowed and resumed instead). A background segment at `own_until` wins the tie and
+    /// clears the resume itself, as does an own telegram (which never starts earlier: it
+    /// is queued after the one before, `Transmitter::transmit`).
+    fn resume_stays_silent(&self) -> bool {
+        let at = self.own_until;
+        debug_assert!(self.own.front().is_none_or(|o| o.start >= at));
+        self.background.front().is_none_or(|b| b.seg.start >= at)
+    }
+
+    /// The last of the carried copies that the release loop would follow one after the
+    /// other from `seg` on (with `invert`, its inversion): each next background front that
+    /// is carried, starts at or before `now` and before the next own telegram (`own_at`;
+    /// an own telegram wins a tie), with its inversion found from the level the copy before
+    /// leaves (410B §1 repeater; spec-notes "Followed copies"). The copies passed over are
+    /// dropped: a follow keeps nothing of the copy before it but that level. Called with
+    /// the resume cleared and `seg` past the last own telegram's end, which then holds for
+    /// every later copy too.
+    fn skip_followed(
+        &mut self,
+        mut seg: LineSegment,
+        mut invert: bool,
+        own_at: Option<Instant>,
+        now: Instant,
+    ) -> (LineSegment, bool) {
+        debug_assert!(self.resume_at.is_none() && seg.start >= self.own_until);
+        while let Some(next) = self.background.front()
+            && next.carried
+            && next.seg.start <= now
+            && own_at.is_none_or(|o| next.seg.start < o)
+        {
+            let level = seg.level_at(next.seg.start) != invert;
+            invert =
+                matches!(next.seg.signal, LineSignal::Bits(_)) && next.seg.level_before != level;
+            let Some(q) = self.background.pop_front() else {
+                break;
+            };
+            seg = q.seg;
+        }
+        (seg, invert)
     }
 
     /// Follows a copy the user carries that starts when no own telegram shadows it: it
@@ -506,4 +582,105 @@ fn resumes_filler(bg: &LineSegment, at: Instant, bit_time: Duration) -> bool {
         LineSignal::Dark | LineSignal::Light => false,
     };
     filler && !bg.distorted && bg.bit_time == bit_time
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use sercos_wire::line::BitVec;
+
+    /// One bit time; every instant below is a whole number of them (ties are frequent).
+    const BT: u64 = 1_000;
+
+    /// What is done to the transmitter, at a time counted in bit times from the last release.
+    #[derive(Debug, Clone)]
+    enum Op {
+        /// A carried copy (`push_forwarded` with carried forwarding): bits (with or without
+        /// implied filler) or filler, from a level.
+        Carried {
+            off: u64,
+            bits: Option<(Vec<bool>, bool)>,
+            level: bool,
+        },
+        /// A background segment released as output (filler or dark).
+        Background { off: u64, filler: bool },
+        /// An own telegram.
+        Own { off: u64, len: u8, presync: bool },
+        /// A release up to this many bit times past the last one.
+        Release(u64),
+    }
+
+    fn op() -> impl Strategy<Value = Op> {
+        prop_oneof![
+            4 => (
+                0u64..40,
+                proptest::option::of((proptest::collection::vec(any::<bool>(), 0..12), any::<bool>())),
+                any::<bool>()
+            )
+                .prop_map(|(off, bits, level)| Op::Carried { off, bits, level }),
+            1 => (0u64..40, any::<bool>()).prop_map(|(off, filler)| Op::Background { off, filler }),
+            2 => (0u64..40, 1u8..4, any::<bool>())
+                .prop_map(|(off, len, presync)| Op::Own { off, len, presync }),
+            3 => (0u64..80).prop_map(Op::Release),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+
+        /// The release's short paths leave exactly the state of the general loop's turns
+        /// one by one, after every release (carried copies, background, own telegrams with
+        /// and without implied filler, ties of every kind).
+        #[test]
+        fn short_paths_release_as_the_general_loop(
+            ops in proptest::collection::vec(op(), 1..40),
+            implied in any::<bool>(),
+        ) {
+            let mut tx = Transmitter {
+                implied_filler: implied,
+                carried_forwarding: true,
+                ..Transmitter::default()
+            };
+            let bt = Duration::from_picos(BT);
+            let at = |now: u64, off: u64| Instant::from_picos((now + off) * BT);
+            tx.push_background(LineSegment::steady(at(0, 0), bt, LineSignal::Filler, false));
+            let mut now = 0u64;
+            for op in ops {
+                match op {
+                    Op::Carried { off, bits, level } => {
+                        let seg = match bits {
+                            Some((bits, then_filler)) => {
+                                let mut v = BitVec::new();
+                                for b in bits {
+                                    v.push(b);
+                                }
+                                LineSegment {
+                                    then_filler,
+                                    ..LineSegment::bits(at(now, off), bt, v, level)
+                                }
+                            }
+                            None => LineSegment::steady(at(now, off), bt, LineSignal::Filler, level),
+                        };
+                        tx.push_forwarded(seg);
+                    }
+                    Op::Background { off, filler } => {
+                        let signal = if filler { LineSignal::Filler } else { LineSignal::Dark };
+                        tx.push_background(LineSegment::steady(at(now, off), bt, signal, false));
+                    }
+                    Op::Own { off, len, presync } => {
+                        let telegram: Vec<u8> = (0..len).map(|i| i.wrapping_mul(0x5B)).collect();
+                        tx.transmit(at(now, off), bt, presync, &telegram);
+                    }
+                    Op::Release(d) => {
+                        now += d;
+                        let mut general = tx.clone();
+                        general.release_with::<false>(at(now, 0));
+                        tx.release_with::<true>(at(now, 0));
+                        prop_assert_eq!(format!("{general:?}"), format!("{tx:?}"));
+                    }
+                }
+            }
+        }
+    }
 }
