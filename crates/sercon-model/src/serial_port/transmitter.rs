@@ -61,6 +61,10 @@ pub(crate) struct Transmitter {
     own: VecDeque<Own>,
     /// Background segments not yet released, by start.
     background: VecDeque<Queued>,
+    /// How many of `background` are not carried (released as output when their time
+    /// comes): asked by [`Transmitter::sole_own`] once per own telegram, kept at every
+    /// change of the queue instead of a walk of it.
+    uncarried: usize,
     /// The background segment in effect (the last one whose start has passed), as queued,
     /// unless `last_is_bg` says it is `last_out` (then it is not copied at its release).
     bg_active: Option<LineSegment>,
@@ -165,15 +169,25 @@ impl Transmitter {
     }
 
     fn queue_background(&mut self, seg: LineSegment, carried: bool) {
-        while self
-            .background
-            .back()
-            .is_some_and(|b| b.seg.start >= seg.start)
-        {
-            self.background.pop_back();
+        let start = seg.start;
+        while self.background.back().is_some_and(|b| b.seg.start >= start) {
+            if let Some(b) = self.background.pop_back() {
+                self.uncarried = self.uncarried.saturating_sub(usize::from(!b.carried));
+            }
         }
         self.background.push_back(Queued { seg, carried });
-        self.next_release = self.compute_next_release();
+        self.uncarried += usize::from(!carried);
+        // The background's front is as it was, or this segment (every segment it replaced
+        // starts at or after it): either way the next release is the earlier of the one kept
+        // and its start.
+        self.next_release = earliest(self.next_release, Some(start));
+        debug_assert_eq!(self.next_release, self.compute_next_release());
+        debug_assert_eq!(self.uncarried, self.count_uncarried());
+    }
+
+    /// [`Transmitter::uncarried`] from the queue.
+    fn count_uncarried(&self) -> usize {
+        self.background.iter().filter(|q| !q.carried).count()
     }
 
     /// The light level of the output line at `t` (at or after the last release).
@@ -232,10 +246,8 @@ impl Transmitter {
     /// The one own telegram queued, `(start, end, bit time)`, when nothing else will be
     /// released around it: no background segment queued and any resume after it silent.
     pub(crate) fn sole_own(&self) -> Option<(Instant, Instant, Duration)> {
-        if self.own.len() != 1
-            || !self.released.is_empty()
-            || self.background.iter().any(|q| !q.carried)
-        {
+        debug_assert_eq!(self.uncarried, self.count_uncarried());
+        if self.own.len() != 1 || !self.released.is_empty() || self.uncarried != 0 {
             return None;
         }
         if self.resume_at.is_some_and(|r| !self.resume_is_silent(r)) {
@@ -324,6 +336,7 @@ impl Transmitter {
                 let Some(Queued { seg, carried }) = self.background.pop_front() else {
                     break;
                 };
+                self.uncarried = self.uncarried.saturating_sub(usize::from(!carried));
                 if t >= self.own_until {
                     // It takes the resume's place (an implied filler is cut at once).
                     self.resume_at = None;
@@ -394,6 +407,7 @@ impl Transmitter {
                                 seg: rest,
                                 carried: false,
                             });
+                            self.uncarried += 1;
                         }
                     } else {
                         if !matches!(rest.signal, LineSignal::Bits(_)) {
@@ -606,24 +620,39 @@ mod tests {
         /// A background segment released as output (filler or dark).
         Background { off: u64, filler: bool },
         /// An own telegram.
-        Own { off: u64, len: u8, presync: bool },
-        /// A release up to this many bit times past the last one.
-        Release(u64),
+        Own {
+            off: u64,
+            half: bool,
+            len: u8,
+            presync: bool,
+        },
+        /// A release this many bit times past the last one (and half a bit time more).
+        Release(u64, bool),
     }
 
     fn op() -> impl Strategy<Value = Op> {
         prop_oneof![
             4 => (
                 0u64..40,
-                proptest::option::of((proptest::collection::vec(any::<bool>(), 0..12), any::<bool>())),
+                proptest::option::of((proptest::collection::vec(any::<bool>(), 0..120), any::<bool>())),
                 any::<bool>()
             )
                 .prop_map(|(off, bits, level)| Op::Carried { off, bits, level }),
             1 => (0u64..40, any::<bool>()).prop_map(|(off, filler)| Op::Background { off, filler }),
-            2 => (0u64..40, 1u8..4, any::<bool>())
-                .prop_map(|(off, len, presync)| Op::Own { off, len, presync }),
-            3 => (0u64..80).prop_map(Op::Release),
+            2 => (0u64..40, any::<bool>(), 1u8..4, any::<bool>())
+                .prop_map(|(off, half, len, presync)| Op::Own { off, half, len, presync }),
+            3 => (0u64..80, any::<bool>()).prop_map(|(d, half)| Op::Release(d, half)),
         ]
+    }
+
+    /// [`Transmitter::sole_own`] from a walk of the background queue.
+    fn sole_own_from_queues(tx: &Transmitter) -> Option<(Instant, Instant, Duration)> {
+        let own = tx.own.front()?;
+        (tx.own.len() == 1
+            && tx.released.is_empty()
+            && tx.background.iter().all(|q| q.carried)
+            && tx.resume_at.is_none_or(|r| tx.resume_is_silent(r)))
+        .then(|| (own.start, own.end(), own.bit_time))
     }
 
     proptest! {
@@ -668,18 +697,28 @@ mod tests {
                         let signal = if filler { LineSignal::Filler } else { LineSignal::Dark };
                         tx.push_background(LineSegment::steady(at(now, off), bt, signal, false));
                     }
-                    Op::Own { off, len, presync } => {
+                    Op::Own { off, half, len, presync } => {
+                        // Half a bit time off the grid: a shadowed telegram resumes at its
+                        // next bit boundary.
                         let telegram: Vec<u8> = (0..len).map(|i| i.wrapping_mul(0x5B)).collect();
-                        tx.transmit(at(now, off), bt, presync, &telegram);
+                        let start = at(now, off).saturating_add(Duration::from_picos(BT / 2 * u64::from(half)));
+                        tx.transmit(start, bt, presync, &telegram);
                     }
-                    Op::Release(d) => {
+                    Op::Release(d, half) => {
                         now += d;
+                        let until = at(now, 0).saturating_add(Duration::from_picos(BT / 2 * u64::from(half)));
                         let mut general = tx.clone();
-                        general.release_with::<false>(at(now, 0));
-                        tx.release_with::<true>(at(now, 0));
+                        general.release_with::<false>(until);
+                        tx.release_with::<true>(until);
                         prop_assert_eq!(format!("{general:?}"), format!("{tx:?}"));
+                        // Taken as a simulation takes them (then `sole_own` can answer).
+                        tx.take_released(&mut Vec::new());
                     }
                 }
+                // What is kept beside the queues matches them.
+                prop_assert_eq!(tx.uncarried, tx.count_uncarried());
+                prop_assert_eq!(tx.next_release, tx.compute_next_release());
+                prop_assert_eq!(tx.sole_own(), sole_own_from_queues(&tx));
             }
         }
     }
