@@ -61,6 +61,10 @@ pub(crate) struct Transmitter {
     own: VecDeque<Own>,
     /// Background segments not yet released, by start.
     background: VecDeque<Queued>,
+    /// How many of `background` are not carried (released as output when their time
+    /// comes): asked by [`Transmitter::sole_own`] once per own telegram, kept at every
+    /// change of the queue instead of a walk of it.
+    uncarried: usize,
     /// The background segment in effect (the last one whose start has passed), as queued,
     /// unless `last_is_bg` says it is `last_out` (then it is not copied at its release).
     bg_active: Option<LineSegment>,
@@ -165,15 +169,25 @@ impl Transmitter {
     }
 
     fn queue_background(&mut self, seg: LineSegment, carried: bool) {
-        while self
-            .background
-            .back()
-            .is_some_and(|b| b.seg.start >= seg.start)
-        {
-            self.background.pop_back();
+        let start = seg.start;
+        while self.background.back().is_some_and(|b| b.seg.start >= start) {
+            if let Some(b) = self.background.pop_back() {
+                self.uncarried = self.uncarried.saturating_sub(usize::from(!b.carried));
+            }
         }
         self.background.push_back(Queued { seg, carried });
-        self.next_release = self.compute_next_release();
+        self.uncarried += usize::from(!carried);
+        // The background's front is as it was, or this segment (every segment it replaced
+        // starts at or after it): either way the next release is the earlier of the one kept
+        // and its start.
+        self.next_release = earliest(self.next_release, Some(start));
+        debug_assert_eq!(self.next_release, self.compute_next_release());
+        debug_assert_eq!(self.uncarried, self.count_uncarried());
+    }
+
+    /// [`Transmitter::uncarried`] from the queue.
+    fn count_uncarried(&self) -> usize {
+        self.background.iter().filter(|q| !q.carried).count()
     }
 
     /// The light level of the output line at `t` (at or after the last release).
@@ -232,10 +246,8 @@ impl Transmitter {
     /// The one own telegram queued, `(start, end, bit time)`, when nothing else will be
     /// released around it: no background segment queued and any resume after it silent.
     pub(crate) fn sole_own(&self) -> Option<(Instant, Instant, Duration)> {
-        if self.own.len() != 1
-            || !self.released.is_empty()
-            || self.background.iter().any(|q| !q.carried)
-        {
+        debug_assert_eq!(self.uncarried, self.count_uncarried());
+        if self.own.len() != 1 || !self.released.is_empty() || self.uncarried != 0 {
             return None;
         }
         if self.resume_at.is_some_and(|r| !self.resume_is_silent(r)) {
@@ -255,7 +267,29 @@ impl Transmitter {
     }
 
     /// Releases every output segment that starts at or before `now`.
+    ///
+    /// Takes two short paths of the general loop ([`Transmitter::release_with`]); debug
+    /// builds run the general loop on a copy and compare the whole state.
     pub(crate) fn release(&mut self, now: Instant) {
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut general = self.clone();
+            general.release_with::<false>(now);
+            format!("{general:?}")
+        };
+        self.release_with::<true>(now);
+        #[cfg(debug_assertions)]
+        debug_assert_eq!(
+            general,
+            format!("{self:?}"),
+            "the release's short paths differ from the general loop"
+        );
+    }
+
+    /// [`Transmitter::release`]; `SHORT`: with its short paths (a run of carried copies
+    /// followed as one, the silent resume after an own telegram taken with it), which leave
+    /// the same state as the general loop's turns one by one.
+    fn release_with<const SHORT: bool>(&mut self, now: Instant) {
         loop {
             // The queues' fronts once per turn.
             let (own_at, bg_at) = self.fronts();
@@ -292,10 +326,17 @@ impl Transmitter {
                 let open = seg.then_filler;
                 self.emit(seg);
                 self.implied_open = open;
+                if SHORT && open && self.own_until <= now && self.resume_stays_silent() {
+                    // The silent resume (spec-notes "Implied filler") is due: what its turn
+                    // does, without the turn.
+                    self.resume_at = None;
+                    self.silent_resume = false;
+                }
             } else if bg_at == Some(t) {
                 let Some(Queued { seg, carried }) = self.background.pop_front() else {
                     break;
                 };
+                self.uncarried = self.uncarried.saturating_sub(usize::from(!carried));
                 if t >= self.own_until {
                     // It takes the resume's place (an implied filler is cut at once).
                     self.resume_at = None;
@@ -307,6 +348,11 @@ impl Transmitter {
                         && seg.level_before != self.level_at(t);
                     if carried {
                         // A copy the user carries is only followed, not released.
+                        let (seg, invert) = if SHORT {
+                            self.skip_followed(seg, invert, own_at, now)
+                        } else {
+                            (seg, invert)
+                        };
                         #[cfg(debug_assertions)]
                         let expected = self.followed_general(&seg, invert);
                         self.follow(seg, invert);
@@ -361,6 +407,7 @@ impl Transmitter {
                                 seg: rest,
                                 carried: false,
                             });
+                            self.uncarried += 1;
                         }
                     } else {
                         if !matches!(rest.signal, LineSignal::Bits(_)) {
@@ -389,6 +436,49 @@ impl Transmitter {
             }
         }
         self.next_release = self.compute_next_release();
+    }
+
+    /// Whether the resume at `own_until` is taken as a silent one by the release loop
+    /// whatever comes before it: no background segment starts before it (one would be
+    /// shadowed and resumed instead). A background segment at `own_until` wins the tie and
+    /// clears the resume itself, as does an own telegram (which never starts earlier: it
+    /// is queued after the one before, `Transmitter::transmit`).
+    fn resume_stays_silent(&self) -> bool {
+        let at = self.own_until;
+        debug_assert!(self.own.front().is_none_or(|o| o.start >= at));
+        self.background.front().is_none_or(|b| b.seg.start >= at)
+    }
+
+    /// The last of the carried copies that the release loop would follow one after the
+    /// other from `seg` on (with `invert`, its inversion): each next background front that
+    /// is carried, starts at or before `now` and before the next own telegram (`own_at`;
+    /// an own telegram wins a tie), with its inversion found from the level the copy before
+    /// leaves (410B §1 repeater; spec-notes "Followed copies"). The copies passed over are
+    /// dropped: a follow keeps nothing of the copy before it but that level. Called with
+    /// the resume cleared and `seg` past the last own telegram's end, which then holds for
+    /// every later copy too.
+    fn skip_followed(
+        &mut self,
+        mut seg: LineSegment,
+        mut invert: bool,
+        own_at: Option<Instant>,
+        now: Instant,
+    ) -> (LineSegment, bool) {
+        debug_assert!(self.resume_at.is_none() && seg.start >= self.own_until);
+        while let Some(next) = self.background.front()
+            && next.carried
+            && next.seg.start <= now
+            && own_at.is_none_or(|o| next.seg.start < o)
+        {
+            let level = seg.level_at(next.seg.start) != invert;
+            invert =
+                matches!(next.seg.signal, LineSignal::Bits(_)) && next.seg.level_before != level;
+            let Some(q) = self.background.pop_front() else {
+                break;
+            };
+            seg = q.seg;
+        }
+        (seg, invert)
     }
 
     /// Follows a copy the user carries that starts when no own telegram shadows it: it
@@ -506,4 +596,130 @@ fn resumes_filler(bg: &LineSegment, at: Instant, bit_time: Duration) -> bool {
         LineSignal::Dark | LineSignal::Light => false,
     };
     filler && !bg.distorted && bg.bit_time == bit_time
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use sercos_wire::line::BitVec;
+
+    /// One bit time; every instant below is a whole number of them (ties are frequent).
+    const BT: u64 = 1_000;
+
+    /// What is done to the transmitter, at a time counted in bit times from the last release.
+    #[derive(Debug, Clone)]
+    enum Op {
+        /// A carried copy (`push_forwarded` with carried forwarding): bits (with or without
+        /// implied filler) or filler, from a level.
+        Carried {
+            off: u64,
+            bits: Option<(Vec<bool>, bool)>,
+            level: bool,
+        },
+        /// A background segment released as output (filler or dark).
+        Background { off: u64, filler: bool },
+        /// An own telegram.
+        Own {
+            off: u64,
+            half: bool,
+            len: u8,
+            presync: bool,
+        },
+        /// A release this many bit times past the last one (and half a bit time more).
+        Release(u64, bool),
+    }
+
+    fn op() -> impl Strategy<Value = Op> {
+        prop_oneof![
+            4 => (
+                0u64..40,
+                proptest::option::of((proptest::collection::vec(any::<bool>(), 0..120), any::<bool>())),
+                any::<bool>()
+            )
+                .prop_map(|(off, bits, level)| Op::Carried { off, bits, level }),
+            1 => (0u64..40, any::<bool>()).prop_map(|(off, filler)| Op::Background { off, filler }),
+            2 => (0u64..40, any::<bool>(), 1u8..4, any::<bool>())
+                .prop_map(|(off, half, len, presync)| Op::Own { off, half, len, presync }),
+            3 => (0u64..80, any::<bool>()).prop_map(|(d, half)| Op::Release(d, half)),
+        ]
+    }
+
+    /// [`Transmitter::sole_own`] from a walk of the background queue.
+    fn sole_own_from_queues(tx: &Transmitter) -> Option<(Instant, Instant, Duration)> {
+        let own = tx.own.front()?;
+        (tx.own.len() == 1
+            && tx.released.is_empty()
+            && tx.background.iter().all(|q| q.carried)
+            && tx.resume_at.is_none_or(|r| tx.resume_is_silent(r)))
+        .then(|| (own.start, own.end(), own.bit_time))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+
+        /// The release's short paths leave exactly the state of the general loop's turns
+        /// one by one, after every release (carried copies, background, own telegrams with
+        /// and without implied filler, ties of every kind).
+        #[test]
+        fn short_paths_release_as_the_general_loop(
+            ops in proptest::collection::vec(op(), 1..40),
+            implied in any::<bool>(),
+        ) {
+            let mut tx = Transmitter {
+                implied_filler: implied,
+                carried_forwarding: true,
+                ..Transmitter::default()
+            };
+            let bt = Duration::from_picos(BT);
+            let at = |now: u64, off: u64| Instant::from_picos((now + off) * BT);
+            tx.push_background(LineSegment::steady(at(0, 0), bt, LineSignal::Filler, false));
+            let mut now = 0u64;
+            for op in ops {
+                match op {
+                    Op::Carried { off, bits, level } => {
+                        let seg = match bits {
+                            Some((bits, then_filler)) => {
+                                let mut v = BitVec::new();
+                                for b in bits {
+                                    v.push(b);
+                                }
+                                LineSegment {
+                                    then_filler,
+                                    ..LineSegment::bits(at(now, off), bt, v, level)
+                                }
+                            }
+                            None => LineSegment::steady(at(now, off), bt, LineSignal::Filler, level),
+                        };
+                        tx.push_forwarded(seg);
+                    }
+                    Op::Background { off, filler } => {
+                        let signal = if filler { LineSignal::Filler } else { LineSignal::Dark };
+                        tx.push_background(LineSegment::steady(at(now, off), bt, signal, false));
+                    }
+                    Op::Own { off, half, len, presync } => {
+                        // Half a bit time off the grid: a shadowed telegram resumes at its
+                        // next bit boundary.
+                        let telegram: Vec<u8> = (0..len).map(|i| i.wrapping_mul(0x5B)).collect();
+                        let start = at(now, off).saturating_add(Duration::from_picos(BT / 2 * u64::from(half)));
+                        tx.transmit(start, bt, presync, &telegram);
+                    }
+                    Op::Release(d, half) => {
+                        now += d;
+                        let until = at(now, 0).saturating_add(Duration::from_picos(BT / 2 * u64::from(half)));
+                        let mut general = tx.clone();
+                        general.release_with::<false>(until);
+                        tx.release_with::<true>(until);
+                        prop_assert_eq!(format!("{general:?}"), format!("{tx:?}"));
+                        // Taken as a simulation takes them (then `sole_own` can answer).
+                        tx.take_released(&mut Vec::new());
+                    }
+                }
+                // What is kept beside the queues matches them.
+                prop_assert_eq!(tx.uncarried, tx.count_uncarried());
+                prop_assert_eq!(tx.next_release, tx.compute_next_release());
+                prop_assert_eq!(tx.sole_own(), sole_own_from_queues(&tx));
+            }
+        }
+    }
 }
