@@ -51,6 +51,10 @@ pub(crate) struct Receiver {
     /// once, and how to take it back if the next segment starts no later than the filler
     /// (then there was none).
     implied: Option<ImpliedFiller>,
+    /// The receiver's own part of [`Receiver::is_filler_to_filler`], kept as the state
+    /// changes ([`Receiver::compute_ready`]): where the implied filler running starts and the
+    /// bit time of the segment it follows, when the receiver is in that state.
+    ready: Option<(Instant, Duration)>,
 }
 
 /// The receiver as it was before it took an implied filler, and what that scheduled.
@@ -127,6 +131,24 @@ impl Receiver {
     pub(crate) fn deadline_fired(&mut self) {
         self.fibbr_deadline = None;
         self.fibbr_future = true;
+        // FIBBR is set: no filler runs (410B §4.1 2H.13).
+        self.ready = None;
+    }
+
+    /// [`Receiver::ready`] from the state: the implied filler of the last segment runs (an
+    /// undistorted telegram that carried it at a bit time above 0, no decoder running before
+    /// or after it), with no FIBBR deadline nor rise pending.
+    fn compute_ready(&self) -> Option<(Instant, Duration)> {
+        let last = self.last.as_ref()?;
+        let implied = self.implied.as_ref()?;
+        (self.open_filler
+            && !self.fibbr_future
+            && self.running.is_none()
+            && implied.running.is_none()
+            && last.then_filler
+            && !last.distorted
+            && last.bit_time.as_picos() > 0)
+            .then_some((implied.at, last.bit_time))
     }
 
     /// An edge of the receive signal at `t`.
@@ -215,6 +237,7 @@ impl Receiver {
         if implied && let Some(at) = end {
             self.take_implied_filler(at, cfg, events);
         }
+        self.ready = self.compute_ready();
     }
 
     /// Whether `seg` is the usual input of an intact ring, which [`Receiver::filler_to_filler`]
@@ -233,25 +256,18 @@ impl Receiver {
         events: &LineEvents,
     ) -> bool {
         const { assert!(FIBBR_BIT_TIMES > 1) };
+        debug_assert_eq!(self.ready, self.compute_ready());
         let bt = seg.bit_time;
-        seg.then_filler
+        // The receiver's part (`compute_ready`): the previous telegram's implied filler runs,
+        // from before `seg`, at `seg`'s bit rate (not 0).
+        self.ready
+            .is_some_and(|(at, last_bt)| at < seg.start && last_bt == bt)
+            && seg.then_filler
             && !seg.distorted
             && seg.hint.is_some()
-            && bt.as_picos() > 0
             && matches!(&seg.signal, LineSignal::Bits(b) if !b.is_empty())
             && cfg.rx_coding == RxdCoding::Nrzi
             && cfg.bit_time.is_none_or(|own| own == bt)
-            && self.open_filler
-            && !self.fibbr_future
-            && self.running.is_none()
-            && self
-                .implied
-                .as_ref()
-                .is_some_and(|u| u.at < seg.start && u.running.is_none())
-            && self
-                .last
-                .as_ref()
-                .is_some_and(|l| l.then_filler && l.bit_time == bt && !l.distorted)
             && self.level_at(seg.start) == Some(seg.level_before)
             && events.rdist_at_end_if_last(seg.start) == Some(false)
     }
@@ -276,13 +292,26 @@ impl Receiver {
         self.last = Some(seg);
         self.level_memo.set(None);
         // The bits' last edge set the deadline the filler's first edge then clears.
-        self.implied = Some(ImpliedFiller {
-            at: end,
-            fibbr_deadline: Some(end.saturating_sub_bits(bt).saturating_add(self.timeout)),
-            fibbr_future: false,
-            running: None,
-            rdist: None,
-        });
+        let fibbr_deadline = Some(end.saturating_sub_bits(bt).saturating_add(self.timeout));
+        if let Some(u) = self.implied.as_mut() {
+            // The previous filler's record (`ready`: one without a decoder), written over in
+            // place: nothing of it to drop.
+            debug_assert!(u.running.is_none());
+            u.at = end;
+            u.fibbr_deadline = fibbr_deadline;
+            u.fibbr_future = false;
+            u.rdist = None;
+        } else {
+            self.implied = Some(ImpliedFiller {
+                at: end,
+                fibbr_deadline,
+                fibbr_future: false,
+                running: None,
+                rdist: None,
+            });
+        }
+        // The state `compute_ready` finds: this telegram's implied filler runs.
+        self.ready = Some((end, bt));
     }
 
     /// The receiver's and `events`' state after the general path took `seg` (a check of
