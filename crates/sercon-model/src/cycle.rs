@@ -41,6 +41,9 @@ pub(crate) struct CycleState {
     pub(crate) continuous: bool,
     /// TCNT while no cycle runs (it holds its last value).
     pub(crate) tcnt_hold: u16,
+    /// Transmission block of the last cycle started, running or ended (the MST window's
+    /// TSCYC, spec-notes "MST window of the last cycle").
+    pub(crate) last_block: u8,
 }
 
 impl Engine {
@@ -347,6 +350,7 @@ impl Engine {
             pulse_cycle,
         };
         self.cycle.run = Some(run);
+        self.cycle.last_block = block;
         // 816 §2.6.5: in master mode the MST start triggers the watchdog (WDOG_MSTEN).
         if self.s.sends_mst() && self.s.wdog_msten {
             self.wd.trigger(at, self.s.twdog, self.pre.period());

@@ -39,10 +39,11 @@ pub(crate) fn mst_start(chip: &mut Chip, tick: u64) {
     }
 }
 
-/// Expected MST spacing in µs: the cycle time of the block in progress (410B §4.1
-/// 0FH/10H TSCYC0/1).
+/// Expected MST spacing in µs: the cycle time of the block of the last cycle, in progress
+/// or ended on this very tick (410B §4.1 0FH/10H TSCYC0/1; spec-notes "MST window of the
+/// last cycle").
 fn tscyc_us(chip: &Chip) -> u64 {
-    let block = chip.engine.cycle.run.map_or(0, |r| r.block);
+    let block = chip.engine.cycle.last_block;
     u64::from(chip.engine.s.tscyc[usize::from(block & 1)])
 }
 
@@ -91,7 +92,9 @@ pub(crate) fn mst_end(chip: &mut Chip, tick: u64, frame: &HeardFrame) {
     {
         tp::start_block(chip, tick, block);
     }
-    // The next MST is due one cycle later, at the latest JTSCYC2 after that.
+    // The next MST is due one cycle later, at the latest JTSCYC2 after that: one cycle of the
+    // block this MST started (spec-notes "MST window of the last cycle").
+    let tscyc = tscyc_us(chip);
     chip.tp.mst.deadline = (tscyc > 0).then(|| window_close(tick, tscyc, j2, period));
 }
 

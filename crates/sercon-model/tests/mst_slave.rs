@@ -152,3 +152,36 @@ fn phase_byte_change_shifting_the_mst_end_by_a_bit_is_not_a_missing_mst() {
         assert_eq!(ring.slave.read_ram(10), 0, "{variant:?} NMSTERR");
     }
 }
+
+#[test]
+fn msts_of_block_1_are_timed_by_tscyc1_also_when_its_cycle_ends_with_them() {
+    // 410B §4.1 0FH/10H TSCYC0/1, 0CH.3 (PHAS1 selects block 1), 25H.10 MSTTCHK with
+    // 15H/16H JTSCYC1/2: a slave in block 1 expects its MSTs TSCYC1 apart. On an ideal ring
+    // the slave's cycle (one TSCYC1 from the last MST's end) ends on the very tick the next
+    // MST ends; the window is still that of block 1 (spec-notes "MST window of the last
+    // cycle"), not TSCYC0 for want of a running cycle.
+    let mut m = chip(Variant::Sercon816);
+    let mut s = chip(Variant::Sercon816);
+    for c in [&mut m, &mut s] {
+        c.write_ram(0, 16);
+        c.write_ram(1, 16);
+        end_marker(c, 16);
+    }
+    s.write(Register::Phas, 0x0504);
+    s.write(Register::Tscyc1, 200);
+    s.write(Register::Jtscyc1, 3);
+    s.write(Register::Jtscyc2, 3);
+    s.write(Register::Thrpt, MSTTCHK);
+    s.write(Register::Ctrl0C, MSTEN | (1 << 3));
+    m.write(Register::Tscyc0, 200);
+    m.write(Register::Phas, 0xFF05);
+    m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
+    let mut ring = Ring::new(m, s);
+    ring.run_to(us(1250));
+    let lo = ring.slave.read(Register::IntFlagsLo);
+    // 4H.3 INT_COMBLK1: block 1 ran; no INT_MSTEARLY / INT_MSTLATE (4H.7/8), INT_MSTMIS (4H.9).
+    assert_ne!(lo & (1 << 3), 0, "{lo:04x}");
+    assert_eq!(lo & (7 << 7), 0, "{lo:04x}");
+    // §4.2 word 10 NMSTERR: no MST counted missing.
+    assert_eq!(ring.slave.read_ram(10), 0);
+}
