@@ -365,10 +365,10 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
         return;
     }
     // Only the current header (the block carries a 256-byte bitmap: not copied).
-    let Some(cur) = chip.tp.block.as_ref().map(|b| b.cur) else {
+    let Some(b) = chip.tp.block.as_ref() else {
         return;
     };
-    match cur {
+    match b.cur {
         Some(Cur::Tx { at, hdr, start }) if start == tick => transmit::start(chip, tick, at, hdr),
         Some(Cur::Rx {
             at,
@@ -409,7 +409,11 @@ pub(crate) fn apply_quiet_events(chip: &mut Chip, tick: u64) -> bool {
         applied = true;
     }
     applied |= announce_opened(chip, tick);
-    if let Some(Some(Cur::End { at, ready })) = chip.tp.block.as_ref().map(|b| b.cur)
+    // The current header matched in place, not copied out.
+    if let Some(Block {
+        cur: Some(Cur::End { at, ready }),
+        ..
+    }) = chip.tp.block
         && ready <= tick
     {
         end_marker(chip, ready, at);
@@ -423,13 +427,16 @@ pub(crate) fn apply_quiet_events(chip: &mut Chip, tick: u64) -> bool {
 pub(crate) fn has_quiet_events(chip: &Chip) -> bool {
     chip.tp.tx_end.is_some()
         || matches!(
-            chip.tp.block.as_ref().map(|b| b.cur),
-            Some(Some(
-                Cur::Rx {
-                    announced: false,
-                    ..
-                } | Cur::End { .. }
-            ))
+            chip.tp.block,
+            Some(Block {
+                cur: Some(
+                    Cur::Rx {
+                        announced: false,
+                        ..
+                    } | Cur::End { .. }
+                ),
+                ..
+            })
         )
 }
 
@@ -440,33 +447,29 @@ pub(crate) fn has_quiet_events(chip: &Chip) -> bool {
 /// opening first).
 /// Returns whether it did.
 fn announce_opened(chip: &mut Chip, tick: u64) -> bool {
-    let Some(Some(Cur::Rx {
-        at,
-        hdr,
-        open,
-        close,
-        announced: false,
-    })) = chip.tp.block.as_ref().map(|b| b.cur)
+    // Read and flagged in place: the current header is not copied out and back.
+    let Some(Block {
+        cur:
+            Some(Cur::Rx {
+                at,
+                open,
+                announced: announced @ false,
+                ..
+            }),
+        ..
+    }) = chip.tp.block.as_mut()
     else {
         return false;
     };
-    if open > tick {
+    if *open > tick {
         return false;
     }
+    *announced = true;
+    let at = *at;
     chip.tp.flrwait = true;
     chip.tp.thwpt = at;
     chip.tp.thw = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
     chip.engine.flags.lo |= INT_RWAIT;
-    set_cur(
-        chip,
-        Some(Cur::Rx {
-            at,
-            hdr,
-            open,
-            close,
-            announced: true,
-        }),
-    );
     true
 }
 
