@@ -519,6 +519,9 @@ pub(crate) fn advance(chip: &mut Chip, tick: u64, pt: u16) {
 
 /// Reads the header at `ptr` (410B §4.2.1 PT: "Word address within the RAM of the next
 /// telegram header or the end marker") and makes it current.
+// Inlined into `advance` and `start_block`: one call less per header (performance.md
+// "loadcur").
+#[inline(always)]
 fn load(chip: &mut Chip, tick: u64, ptr: u16) {
     let limit = max_steps(chip);
     let Some(b) = chip.tp.block.as_mut() else {
