@@ -27,7 +27,7 @@ mod walk;
 use std::collections::VecDeque;
 
 use sercon_regs::Register;
-use sercon_regs::ram::header::{Header, RxHeader, TxHeader};
+use sercon_regs::ram::header::{RxHeader, TxHeader};
 use sercos_wire::time::Instant;
 
 use crate::chip::Chip;
@@ -365,10 +365,10 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
         return;
     }
     // Only the current header (the block carries a 256-byte bitmap: not copied).
-    let Some(cur) = chip.tp.block.as_ref().map(|b| b.cur) else {
+    let Some(b) = chip.tp.block.as_ref() else {
         return;
     };
-    match cur {
+    match b.cur {
         Some(Cur::Tx { at, hdr, start }) if start == tick => transmit::start(chip, tick, at, hdr),
         Some(Cur::Rx {
             at,
@@ -409,7 +409,11 @@ pub(crate) fn apply_quiet_events(chip: &mut Chip, tick: u64) -> bool {
         applied = true;
     }
     applied |= announce_opened(chip, tick);
-    if let Some(Some(Cur::End { at, ready })) = chip.tp.block.as_ref().map(|b| b.cur)
+    // The current header matched in place, not copied out.
+    if let Some(Block {
+        cur: Some(Cur::End { at, ready }),
+        ..
+    }) = chip.tp.block
         && ready <= tick
     {
         end_marker(chip, ready, at);
@@ -423,13 +427,16 @@ pub(crate) fn apply_quiet_events(chip: &mut Chip, tick: u64) -> bool {
 pub(crate) fn has_quiet_events(chip: &Chip) -> bool {
     chip.tp.tx_end.is_some()
         || matches!(
-            chip.tp.block.as_ref().map(|b| b.cur),
-            Some(Some(
-                Cur::Rx {
-                    announced: false,
-                    ..
-                } | Cur::End { .. }
-            ))
+            chip.tp.block,
+            Some(Block {
+                cur: Some(
+                    Cur::Rx {
+                        announced: false,
+                        ..
+                    } | Cur::End { .. }
+                ),
+                ..
+            })
         )
 }
 
@@ -440,33 +447,29 @@ pub(crate) fn has_quiet_events(chip: &Chip) -> bool {
 /// opening first).
 /// Returns whether it did.
 fn announce_opened(chip: &mut Chip, tick: u64) -> bool {
-    let Some(Some(Cur::Rx {
-        at,
-        hdr,
-        open,
-        close,
-        announced: false,
-    })) = chip.tp.block.as_ref().map(|b| b.cur)
+    // Read and flagged in place: the current header is not copied out and back.
+    let Some(Block {
+        cur:
+            Some(Cur::Rx {
+                at,
+                open,
+                announced: announced @ false,
+                ..
+            }),
+        ..
+    }) = chip.tp.block.as_mut()
     else {
         return false;
     };
-    if open > tick {
+    if *open > tick {
         return false;
     }
+    *announced = true;
+    let at = *at;
     chip.tp.flrwait = true;
     chip.tp.thwpt = at;
     chip.tp.thw = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
     chip.engine.flags.lo |= INT_RWAIT;
-    set_cur(
-        chip,
-        Some(Cur::Rx {
-            at,
-            hdr,
-            open,
-            close,
-            announced: true,
-        }),
-    );
     true
 }
 
@@ -516,6 +519,9 @@ pub(crate) fn advance(chip: &mut Chip, tick: u64, pt: u16) {
 
 /// Reads the header at `ptr` (410B §4.2.1 PT: "Word address within the RAM of the next
 /// telegram header or the end marker") and makes it current.
+// Inlined into `advance` and `start_block`: one call less per header (performance.md
+// "loadcur").
+#[inline(always)]
 fn load(chip: &mut Chip, tick: u64, ptr: u16) {
     let limit = max_steps(chip);
     let Some(b) = chip.tp.block.as_mut() else {
@@ -540,64 +546,94 @@ fn load(chip: &mut Chip, tick: u64, ptr: u16) {
         abort_block(chip, tick);
         return;
     }
-    let header = match walk::header_at(&chip.ram, variant, ptr) {
-        Ok(h) => h,
+    let words = match walk::header_words(&chip.ram, variant, ptr) {
+        Ok(w) => w,
         Err(e) => {
             prog_error(chip, e);
             abort_block(chip, tick);
             return;
         }
     };
-    let period = chip.engine.pre.period();
-    let at_us = |us: u64| ref_tick.saturating_add(us.saturating_mul(period));
-    let cur = match header {
-        Header::Transmit(hdr) => {
-            // 410B §4.2.1 TRT: "Time for the start of telegram in µs after the end of MST".
-            let start = at_us(u64::from(hdr.trt));
-            let start = if start < tick {
-                // Due before its header was reached: the telegrams overlap in time.
-                prog_error(chip, ProgErr::Overlap);
-                tick
-            } else {
-                start
-            };
-            transmit::prepare(chip, ptr, &hdr);
-            Cur::Tx {
-                at: ptr,
-                hdr,
-                start,
-            }
-        }
-        Header::Receive(hdr) => {
-            let trt = u64::from(hdr.trt);
-            let (open, close) = if hdr.tchk {
-                // 410B §4.2.1 TCHK with §4.1 18H/19H JTRDEL1/2, the receive window
-                // (spec-notes "receive window"): TRT − JTRDEL1 ..= TRT + JTRDEL2.
-                let j1 = u64::from(chip.engine.regs.stored(Register::Jtrdel1));
-                let j2 = u64::from(chip.engine.regs.stored(Register::Jtrdel2));
-                (
-                    at_us(trt.saturating_sub(j1)).max(tick),
-                    Some(at_us(trt.saturating_add(j2)).max(tick)),
-                )
-            } else {
-                (tick, None)
-            };
-            Cur::Rx {
-                at: ptr,
-                hdr,
-                open,
-                close,
-                announced: false,
-            }
-        }
+    // Each kind decoded and stored by its own function: one arm's fields are not merged
+    // with the other's on the way to `b.cur` (performance.md "loadcur").
+    match words {
+        walk::HeaderWords::Transmit(w) => load_tx(chip, tick, ptr, ref_tick, w),
+        walk::HeaderWords::Receive(w) => load_rx(chip, tick, ptr, ref_tick, w),
         // Processed once the block's last telegram has ended (`end_marker`): no turn
         // before that.
-        Header::End(_) => Cur::End {
-            at: ptr,
-            ready: busy_until(chip, tick).unwrap_or(tick),
-        },
+        walk::HeaderWords::End => {
+            let ready = busy_until(chip, tick).unwrap_or(tick);
+            set_cur(chip, Some(Cur::End { at: ptr, ready }));
+        }
+    }
+}
+
+/// The tick `us` µs after `ref_tick` (the end of the MST), saturating.
+fn at_us(chip: &Chip, ref_tick: u64, us: u64) -> u64 {
+    ref_tick.saturating_add(us.saturating_mul(chip.engine.pre.period()))
+}
+
+/// Makes the transmit header at `ptr` (its words `w`) current (`load`).
+#[inline(never)]
+fn load_tx(chip: &mut Chip, tick: u64, ptr: u16, ref_tick: u64, w: [u16; 4]) {
+    // 410B §4.2.1 transmit header; the kind was classified by `header_words`.
+    let Ok(hdr) = TxHeader::from_words(chip.cfg.variant, w) else {
+        prog_error(chip, ProgErr::OutsideRam);
+        abort_block(chip, tick);
+        return;
     };
-    set_cur(chip, Some(cur));
+    // 410B §4.2.1 TRT: "Time for the start of telegram in µs after the end of MST".
+    let start = at_us(chip, ref_tick, u64::from(hdr.trt));
+    let start = if start < tick {
+        // Due before its header was reached: the telegrams overlap in time.
+        prog_error(chip, ProgErr::Overlap);
+        tick
+    } else {
+        start
+    };
+    transmit::prepare(chip, ptr, &hdr);
+    set_cur(
+        chip,
+        Some(Cur::Tx {
+            at: ptr,
+            hdr,
+            start,
+        }),
+    );
+}
+
+/// Makes the receive header at `ptr` (its words `w`) current (`load`).
+#[inline(never)]
+fn load_rx(chip: &mut Chip, tick: u64, ptr: u16, ref_tick: u64, w: [u16; 5]) {
+    // 410B §4.2.1 receive header; the kind was classified by `header_words`.
+    let Ok(hdr) = RxHeader::from_words(chip.cfg.variant, w) else {
+        prog_error(chip, ProgErr::OutsideRam);
+        abort_block(chip, tick);
+        return;
+    };
+    let trt = u64::from(hdr.trt);
+    let (open, close) = if hdr.tchk {
+        // 410B §4.2.1 TCHK with §4.1 18H/19H JTRDEL1/2, the receive window
+        // (spec-notes "receive window"): TRT − JTRDEL1 ..= TRT + JTRDEL2.
+        let j1 = u64::from(chip.engine.regs.stored(Register::Jtrdel1));
+        let j2 = u64::from(chip.engine.regs.stored(Register::Jtrdel2));
+        (
+            at_us(chip, ref_tick, trt.saturating_sub(j1)).max(tick),
+            Some(at_us(chip, ref_tick, trt.saturating_add(j2)).max(tick)),
+        )
+    } else {
+        (tick, None)
+    };
+    set_cur(
+        chip,
+        Some(Cur::Rx {
+            at: ptr,
+            hdr,
+            open,
+            close,
+            announced: false,
+        }),
+    );
 }
 
 /// The end marker is current at `tick`: the block ends once its last telegram has.

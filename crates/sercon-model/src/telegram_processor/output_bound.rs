@@ -132,9 +132,12 @@ fn writes_before(chip: &Chip, tick: u64) -> Option<Writes> {
     {
         return None;
     }
-    let tend = match tp.block.as_ref().map(|b| b.cur) {
+    let tend = match &tp.block {
         None => None,
-        Some(Some(Cur::End { at, .. })) => Some(u32::from(at) + 1),
+        Some(super::Block {
+            cur: Some(Cur::End { at, .. }),
+            ..
+        }) => Some(u32::from(*at) + 1),
         Some(_) => return None,
     };
     let nmsterr = tp

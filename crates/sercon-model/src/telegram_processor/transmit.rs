@@ -98,7 +98,10 @@ pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHeader) {
     }
     advance(chip, tick, hdr.pt);
     // A transmit telegram after this one cannot start before this one has ended.
-    if let Some(Some(Cur::Tx { start, .. })) = chip.tp.block.as_ref().map(|b| b.cur)
+    if let Some(super::Block {
+        cur: Some(Cur::Tx { start, .. }),
+        ..
+    }) = chip.tp.block
         && start < end
     {
         prog_error(chip, ProgErr::Overlap);

@@ -61,6 +61,61 @@ pub(crate) fn header_at(ram: &[u16], variant: Variant, addr: u16) -> Result<Head
     header
 }
 
+/// A header's words, classified by their marker bits but not decoded: what [`header_at`]
+/// reads, for the caller to decode where it stores the header (`load`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum HeaderWords {
+    /// A receive header's 5 words (410B §4.2.1).
+    Receive([u16; 5]),
+    /// A transmit header's 4 words (410B §4.2.1).
+    Transmit([u16; 4]),
+    /// An end marker (410B §4.2.3); its words are read when it is processed.
+    End,
+}
+
+/// The words of the structure a header pointer points at, with [`header_at`]'s errors:
+/// the same classification and bounds, without building a [`Header`] (debug builds decode
+/// the words and compare with `header_at`).
+// ERRATA "telegram header marker bits": 00 receive, 01 transmit, 11 end marker; 10 is no
+// structure at all, which the model reports as a list without end marker.
+#[inline]
+pub(crate) fn header_words(
+    ram: &[u16],
+    variant: Variant,
+    addr: u16,
+) -> Result<HeaderWords, ProgErr> {
+    let found = (|| {
+        let words = ram.get(usize::from(addr)..).ok_or(ProgErr::OutsideRam)?;
+        let w0 = words.first().copied().ok_or(ProgErr::OutsideRam)?;
+        let kind = HeaderKind::classify(w0).map_err(|_| ProgErr::NoEndMarker)?;
+        // 410B §4.2.1 receive header 5 words, transmit header 4; §4.2.3 end marker 2.
+        match kind {
+            HeaderKind::Receive => fixed(words).map(HeaderWords::Receive),
+            HeaderKind::Transmit => fixed(words).map(HeaderWords::Transmit),
+            HeaderKind::EndMarker => fixed::<2>(words).map(|_| HeaderWords::End),
+        }
+    })();
+    #[cfg(debug_assertions)]
+    {
+        // The general path: `header_at` (itself compared with `Header::decode`).
+        let same = match (found, header_at(ram, variant, addr)) {
+            (Ok(HeaderWords::Receive(w)), Ok(Header::Receive(h))) => {
+                RxHeader::from_words(variant, w) == Ok(h)
+            }
+            (Ok(HeaderWords::Transmit(w)), Ok(Header::Transmit(h))) => {
+                TxHeader::from_words(variant, w) == Ok(h)
+            }
+            (Ok(HeaderWords::End), Ok(Header::End(_))) => true,
+            (Err(a), Err(b)) => a == b,
+            _ => false,
+        };
+        debug_assert!(same, "header_words: differs from header_at at {addr}");
+    }
+    #[cfg(not(debug_assertions))]
+    let _ = variant;
+    found
+}
+
 /// The first `N` words of `words`; a structure that does not fit reaches past the RAM's
 /// end.
 fn fixed<const N: usize>(words: &[u16]) -> Result<[u16; N], ProgErr> {
