@@ -191,26 +191,73 @@ fn rscend(chip: &mut Chip) {
 /// Stores the data of a good telegram container by container (410B §4.2.2 POS: "Position
 /// of the data block within the telegram in number of words").
 fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
-    let variant = chip.cfg.variant;
     let buffering = h.buffering();
-    let data = bytes.get(1..).unwrap_or(&[]);
-    let mut list = std::mem::take(&mut chip.tp.containers);
-    let mut record = std::mem::take(&mut chip.tp.record);
-    list.clear();
     let mut walk = Containers::new(&chip.ram, at, HeaderKind::Receive, buffering);
+    // The usual telegram has one container (ERRATA "data containers", LASTDC = 1 on the
+    // first): it is stored from here, without the reused list (docs/performance.md,
+    // session 12, frameq). The walk reads the same containers either way.
+    let first = walk.next();
+    let second = first.and_then(|_| walk.next());
+    if second.is_none() {
+        let walk_error = walk.error;
+        #[cfg(debug_assertions)]
+        {
+            let all: Vec<walk::Container> =
+                Containers::new(&chip.ram, at, HeaderKind::Receive, buffering).collect();
+            debug_assert_eq!(all.as_slice(), first.as_slice(), "one-container walk");
+        }
+        let ends = store_list(chip, h, bytes, first.as_slice());
+        store_errors(chip, walk_error, ends);
+        return;
+    }
+    let mut list = std::mem::take(&mut chip.tp.containers);
+    list.clear();
+    list.extend(first);
+    list.extend(second);
     // One push per container (`extend` takes the generic path for this iterator: a size
     // hint and a capacity check per element).
     for c in walk.by_ref() {
         list.push(c);
     }
     let walk_error = walk.error;
+    let ends = store_list(chip, h, bytes, &list);
+    chip.tp.containers = list;
+    store_errors(chip, walk_error, ends);
+}
+
+/// The programming errors a store ran into: the walk's own, then a container outside the
+/// telegram's data, then an RFIFO overrun (`ends`: `(overrun, fifo_overrun)`).
+fn store_errors(chip: &mut Chip, walk_error: Option<ProgErr>, ends: (bool, bool)) {
+    let (overrun, fifo_overrun) = ends;
+    if let Some(e) = walk_error {
+        prog_error(chip, e);
+    }
+    if overrun {
+        prog_error(chip, ProgErr::ContainerOverrun);
+    }
+    if fifo_overrun {
+        prog_error(chip, ProgErr::DmaFifo);
+    }
+}
+
+/// Stores the containers `list` of a good telegram; returns `(overrun, fifo_overrun)`:
+/// a container reached past the telegram's data (the rest not stored), the RFIFO held
+/// unread words.
+fn store_list(
+    chip: &mut Chip,
+    h: &RxHeader,
+    bytes: &[u8],
+    list: &[walk::Container],
+) -> (bool, bool) {
+    let variant = chip.cfg.variant;
+    let buffering = h.buffering();
+    let data = bytes.get(1..).unwrap_or(&[]);
     let mut overrun = false;
     let mut fifo_overrun = false;
     let block = chip.tp.block.as_ref().map(|b| b.ref_tick);
     for c in list.iter() {
         let pos = usize::from(c.pos);
         let len = usize::from(c.control.len);
-        record.clear();
         // The container's words must lie inside the telegram's data (an empty container
         // always does).
         let Some(src) = data
@@ -221,10 +268,14 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
             break;
         };
         let words = le_words(src);
+        // The service container's record (taken only when there is one to fill).
+        let mut record = Vec::new();
         match buffering {
             // RFIFO collects the block's DMA receive data; words of an earlier block still
             // unread are an overrun (spec-notes "Master DMA layout").
             Buffering::Dma => {
+                record = std::mem::take(&mut chip.tp.record);
+                record.clear();
                 record.extend(words);
                 fifo_overrun |= chip.tp.fifo.store_rx(block, &record);
             }
@@ -244,6 +295,8 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
                 }
                 super::output_bound::ram_written(chip, dst, len);
                 if c.control.svfl {
+                    record = std::mem::take(&mut chip.tp.record);
+                    record.clear();
                     record.extend(le_words(src));
                 }
             }
@@ -255,18 +308,11 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
             raise_sc(chip, nsv, o.int_sc);
             super::output_bound::ram_rewritten(chip);
         }
+        if record.capacity() != 0 {
+            chip.tp.record = record;
+        }
     }
-    chip.tp.containers = list;
-    chip.tp.record = record;
-    if let Some(e) = walk_error {
-        prog_error(chip, e);
-    }
-    if overrun {
-        prog_error(chip, ProgErr::ContainerOverrun);
-    }
-    if fifo_overrun {
-        prog_error(chip, ProgErr::DmaFifo);
-    }
+    (overrun, fifo_overrun)
 }
 
 /// The little-endian words of `bytes` (410B §4.2.2: the telegram's data words low byte
