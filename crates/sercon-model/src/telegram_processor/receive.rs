@@ -67,8 +67,8 @@ fn accept(chip: &mut Chip, tick: u64, bytes: &[u8]) -> RxRole {
         return RxRole::Ignored;
     }
     let adr = bytes.first().copied().unwrap_or(0);
-    let (_, phas12, _) = reg25(chip);
-    if hdr.achk && adr != hdr.adr && !phas12 {
+    // 25H.11 PHAS12 read only when it decides.
+    if hdr.achk && adr != hdr.adr && !reg25(chip).1 {
         // 410B §4.2.1 ACHK = 1: "Telegrams are received if the address is valid".
         return RxRole::Ignored;
     }
@@ -132,11 +132,10 @@ fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHeader, bytes: &[u8], fcs_
     chip.tp.recadr = adr;
     // 410B §4.2.1 TLEN: a frame of another length is not this telegram (spec-notes).
     let ok = fcs_ok && bytes.len() == 1 + 2 * usize::from(hdr.tlen);
-    let (_, phas12, _) = reg25(chip);
     let mut h = hdr;
     // Re-read word 0's VAL: only the controller changes it for receive telegrams
-    // (816 §2.10.1.1), but keep NERR from the RAM.
-    if ok && phas12 {
+    // (816 §2.10.1.1), but keep NERR from the RAM. 25H.11 PHAS12 read only when it decides.
+    if ok && reg25(chip).1 {
         // 410B §4.1 25H.12 FLMDTADR: "Address of receive telegram equal to expected
         // value"; 816 §2.9.2: an MDT with another address resets it.
         let matches = adr == hdr.adr;
@@ -267,22 +266,24 @@ fn store_list(
             overrun = true;
             break;
         };
-        let words = le_words(src);
-        // The service container's record (taken only when there is one to fill).
-        let mut record = Vec::new();
         match buffering {
             // RFIFO collects the block's DMA receive data; words of an earlier block still
             // unread are an overrun (spec-notes "Master DMA layout").
             Buffering::Dma => {
-                record = std::mem::take(&mut chip.tp.record);
+                let mut record = std::mem::take(&mut chip.tp.record);
                 record.clear();
-                record.extend(words);
+                record.extend(le_words(src));
                 fifo_overrun |= chip.tp.fifo.store_rx(block, &record);
+                if c.control.svfl {
+                    service_receive(chip, variant, c, &record);
+                }
+                chip.tp.record = record;
             }
             // Double buffer: write the buffer that is not valid (VAL selects the valid one),
             // straight from the telegram (the record only for a service container).
             _ => {
                 let dst = c.buffer(buffering, !h.val);
+                let words = le_words(src);
                 match walk::words_mut(&mut chip.ram, dst, len) {
                     Some(ram) => ram.iter_mut().zip(words).for_each(|(r, w)| *r = w),
                     // Only the words inside the RAM are written (the walk keeps containers
@@ -295,24 +296,25 @@ fn store_list(
                 }
                 super::output_bound::ram_written(chip, dst, len);
                 if c.control.svfl {
-                    record = std::mem::take(&mut chip.tp.record);
+                    let mut record = std::mem::take(&mut chip.tp.record);
                     record.clear();
                     record.extend(le_words(src));
+                    service_receive(chip, variant, c, &record);
+                    chip.tp.record = record;
                 }
             }
         }
-        if c.control.svfl {
-            let mode = ScMode::from_scmaster(c.control.scmaster);
-            let nsv = c.control.nsv;
-            let o = service_container::on_receive(&mut chip.ram, variant, nsv, mode, &record, true);
-            raise_sc(chip, nsv, o.int_sc);
-            super::output_bound::ram_rewritten(chip);
-        }
-        if record.capacity() != 0 {
-            chip.tp.record = record;
-        }
     }
     (overrun, fifo_overrun)
+}
+
+/// A service container (SVFL) received `record` (410B §4.2.4).
+fn service_receive(chip: &mut Chip, variant: Variant, c: &walk::Container, record: &[u16]) {
+    let mode = ScMode::from_scmaster(c.control.scmaster);
+    let nsv = c.control.nsv;
+    let o = service_container::on_receive(&mut chip.ram, variant, nsv, mode, record, true);
+    raise_sc(chip, nsv, o.int_sc);
+    super::output_bound::ram_rewritten(chip);
 }
 
 /// The little-endian words of `bytes` (410B §4.2.2: the telegram's data words low byte
