@@ -67,8 +67,8 @@ fn accept(chip: &mut Chip, tick: u64, bytes: &[u8]) -> RxRole {
         return RxRole::Ignored;
     }
     let adr = bytes.first().copied().unwrap_or(0);
-    let (_, phas12, _) = reg25(chip);
-    if hdr.achk && adr != hdr.adr && !phas12 {
+    // 25H.11 PHAS12 read only when it decides.
+    if hdr.achk && adr != hdr.adr && !reg25(chip).1 {
         // 410B §4.2.1 ACHK = 1: "Telegrams are received if the address is valid".
         return RxRole::Ignored;
     }
@@ -132,11 +132,10 @@ fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHeader, bytes: &[u8], fcs_
     chip.tp.recadr = adr;
     // 410B §4.2.1 TLEN: a frame of another length is not this telegram (spec-notes).
     let ok = fcs_ok && bytes.len() == 1 + 2 * usize::from(hdr.tlen);
-    let (_, phas12, _) = reg25(chip);
     let mut h = hdr;
     // Re-read word 0's VAL: only the controller changes it for receive telegrams
-    // (816 §2.10.1.1), but keep NERR from the RAM.
-    if ok && phas12 {
+    // (816 §2.10.1.1), but keep NERR from the RAM. 25H.11 PHAS12 read only when it decides.
+    if ok && reg25(chip).1 {
         // 410B §4.1 25H.12 FLMDTADR: "Address of receive telegram equal to expected
         // value"; 816 §2.9.2: an MDT with another address resets it.
         let matches = adr == hdr.adr;
@@ -191,26 +190,73 @@ fn rscend(chip: &mut Chip) {
 /// Stores the data of a good telegram container by container (410B §4.2.2 POS: "Position
 /// of the data block within the telegram in number of words").
 fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
-    let variant = chip.cfg.variant;
     let buffering = h.buffering();
-    let data = bytes.get(1..).unwrap_or(&[]);
-    let mut list = std::mem::take(&mut chip.tp.containers);
-    let mut record = std::mem::take(&mut chip.tp.record);
-    list.clear();
     let mut walk = Containers::new(&chip.ram, at, HeaderKind::Receive, buffering);
+    // The usual telegram has one container (ERRATA "data containers", LASTDC = 1 on the
+    // first): it is stored from here, without the reused list (docs/performance.md,
+    // session 12, frameq). The walk reads the same containers either way.
+    let first = walk.next();
+    let second = first.and_then(|_| walk.next());
+    if second.is_none() {
+        let walk_error = walk.error;
+        #[cfg(debug_assertions)]
+        {
+            let all: Vec<walk::Container> =
+                Containers::new(&chip.ram, at, HeaderKind::Receive, buffering).collect();
+            debug_assert_eq!(all.as_slice(), first.as_slice(), "one-container walk");
+        }
+        let ends = store_list(chip, h, bytes, first.as_slice());
+        store_errors(chip, walk_error, ends);
+        return;
+    }
+    let mut list = std::mem::take(&mut chip.tp.containers);
+    list.clear();
+    list.extend(first);
+    list.extend(second);
     // One push per container (`extend` takes the generic path for this iterator: a size
     // hint and a capacity check per element).
     for c in walk.by_ref() {
         list.push(c);
     }
     let walk_error = walk.error;
+    let ends = store_list(chip, h, bytes, &list);
+    chip.tp.containers = list;
+    store_errors(chip, walk_error, ends);
+}
+
+/// The programming errors a store ran into: the walk's own, then a container outside the
+/// telegram's data, then an RFIFO overrun (`ends`: `(overrun, fifo_overrun)`).
+fn store_errors(chip: &mut Chip, walk_error: Option<ProgErr>, ends: (bool, bool)) {
+    let (overrun, fifo_overrun) = ends;
+    if let Some(e) = walk_error {
+        prog_error(chip, e);
+    }
+    if overrun {
+        prog_error(chip, ProgErr::ContainerOverrun);
+    }
+    if fifo_overrun {
+        prog_error(chip, ProgErr::DmaFifo);
+    }
+}
+
+/// Stores the containers `list` of a good telegram; returns `(overrun, fifo_overrun)`:
+/// a container reached past the telegram's data (the rest not stored), the RFIFO held
+/// unread words.
+fn store_list(
+    chip: &mut Chip,
+    h: &RxHeader,
+    bytes: &[u8],
+    list: &[walk::Container],
+) -> (bool, bool) {
+    let variant = chip.cfg.variant;
+    let buffering = h.buffering();
+    let data = bytes.get(1..).unwrap_or(&[]);
     let mut overrun = false;
     let mut fifo_overrun = false;
     let block = chip.tp.block.as_ref().map(|b| b.ref_tick);
     for c in list.iter() {
         let pos = usize::from(c.pos);
         let len = usize::from(c.control.len);
-        record.clear();
         // The container's words must lie inside the telegram's data (an empty container
         // always does).
         let Some(src) = data
@@ -220,18 +266,24 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
             overrun = true;
             break;
         };
-        let words = le_words(src);
         match buffering {
             // RFIFO collects the block's DMA receive data; words of an earlier block still
             // unread are an overrun (spec-notes "Master DMA layout").
             Buffering::Dma => {
-                record.extend(words);
+                let mut record = std::mem::take(&mut chip.tp.record);
+                record.clear();
+                record.extend(le_words(src));
                 fifo_overrun |= chip.tp.fifo.store_rx(block, &record);
+                if c.control.svfl {
+                    service_receive(chip, variant, c, &record);
+                }
+                chip.tp.record = record;
             }
             // Double buffer: write the buffer that is not valid (VAL selects the valid one),
             // straight from the telegram (the record only for a service container).
             _ => {
                 let dst = c.buffer(buffering, !h.val);
+                let words = le_words(src);
                 match walk::words_mut(&mut chip.ram, dst, len) {
                     Some(ram) => ram.iter_mut().zip(words).for_each(|(r, w)| *r = w),
                     // Only the words inside the RAM are written (the walk keeps containers
@@ -244,29 +296,25 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
                 }
                 super::output_bound::ram_written(chip, dst, len);
                 if c.control.svfl {
+                    let mut record = std::mem::take(&mut chip.tp.record);
+                    record.clear();
                     record.extend(le_words(src));
+                    service_receive(chip, variant, c, &record);
+                    chip.tp.record = record;
                 }
             }
         }
-        if c.control.svfl {
-            let mode = ScMode::from_scmaster(c.control.scmaster);
-            let nsv = c.control.nsv;
-            let o = service_container::on_receive(&mut chip.ram, variant, nsv, mode, &record, true);
-            raise_sc(chip, nsv, o.int_sc);
-            super::output_bound::ram_rewritten(chip);
-        }
     }
-    chip.tp.containers = list;
-    chip.tp.record = record;
-    if let Some(e) = walk_error {
-        prog_error(chip, e);
-    }
-    if overrun {
-        prog_error(chip, ProgErr::ContainerOverrun);
-    }
-    if fifo_overrun {
-        prog_error(chip, ProgErr::DmaFifo);
-    }
+    (overrun, fifo_overrun)
+}
+
+/// A service container (SVFL) received `record` (410B §4.2.4).
+fn service_receive(chip: &mut Chip, variant: Variant, c: &walk::Container, record: &[u16]) {
+    let mode = ScMode::from_scmaster(c.control.scmaster);
+    let nsv = c.control.nsv;
+    let o = service_container::on_receive(&mut chip.ram, variant, nsv, mode, record, true);
+    raise_sc(chip, nsv, o.int_sc);
+    super::output_bound::ram_rewritten(chip);
 }
 
 /// The little-endian words of `bytes` (410B §4.2.2: the telegram's data words low byte
