@@ -370,8 +370,9 @@ fn a_slave_cycle_ending_at_its_next_mst_reads_as_a_step() {
             tscyc0: 100,
             msttchk: true,
         },
-        // Block 1: the MST that ends the cycle reads TSCYC0 (no cycle in progress any more)
-        // for the next one's window, as with the end a step before it.
+        // Block 1 with another TSCYC0: the MST that ends the cycle times the next one's
+        // window by the last cycle's block (spec-notes "MST window of the last cycle"), as
+        // with the end a step before it.
         SlaveMst {
             block1: true,
             tscyc0: 60,

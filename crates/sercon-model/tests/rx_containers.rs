@@ -35,12 +35,7 @@ fn two_container_mdt(variant: Variant) -> (Ring, u16, u16, u16) {
     tx_header(&mut s, q1, tx(1, TxEnable::Continuous, 40, 8, q2));
     s.write_ram(q1 + 4, control(8, true));
     end_marker(&mut s, q2);
-    s.write(Register::Phas, 0xFF04);
-    s.write(Register::Ctrl3, ENTMT);
-    s.write(Register::Ctrl0C, MSTEN);
-    m.write(Register::Phas, 0x0404);
-    m.write(Register::Ctrl3, ENTMT);
-    m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
+    start_phase4(&mut m, &mut s);
     (Ring::new(m, s), 21, 23, 28)
 }
 

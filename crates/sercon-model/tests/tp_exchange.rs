@@ -80,14 +80,7 @@ fn phase4_timed(variant: Variant, b: Buf, at_trt: u16, tscyc: u16) -> (Ring, Lay
     tx_header(&mut s, q1, h);
     s.write_ram(q1 + 4, control(8, true));
     end_marker(&mut s, q2);
-    // Slave: SERCOS slave (MSTEN), phase 4 in PHAS0, telegrams on.
-    s.write(Register::Phas, 0xFF04);
-    s.write(Register::Ctrl3, ENTMT);
-    s.write(Register::Ctrl0C, MSTEN);
-    // Master: phase 4, continuous cycles from now.
-    m.write(Register::Phas, 0x0404);
-    m.write(Register::Ctrl3, ENTMT);
-    m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
+    start_phase4(&mut m, &mut s);
     let layout = Layout {
         m_mdt_data: 21,
         m_at_hdr: p1,

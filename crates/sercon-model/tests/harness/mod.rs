@@ -122,6 +122,18 @@ pub fn one_slave_blocks(m: &mut Chip, s: &mut Chip, tchk: bool) {
     }
 }
 
+/// Starts phase 4 (410B §4.1 0AH PHAS, 3H.8 ENTMT, 0CH.0/1/10 MSTEN, MSTMASTER, CYCSTART):
+/// the slave a SERCOS slave taking phase 4 in PHAS0, the master sending phase 4 in continuous
+/// cycles from now, both with their telegrams on.
+pub fn start_phase4(m: &mut Chip, s: &mut Chip) {
+    s.write(Register::Phas, 0xFF04);
+    s.write(Register::Ctrl3, ENTMT);
+    s.write(Register::Ctrl0C, MSTEN);
+    m.write(Register::Phas, 0x0404);
+    m.write(Register::Ctrl3, ENTMT);
+    m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
+}
+
 /// Reads `n` RAM words from `at`.
 pub fn words(c: &mut Chip, at: u16, n: u16) -> Vec<u16> {
     (0..n).map(|i| c.read_ram(at + i)).collect()

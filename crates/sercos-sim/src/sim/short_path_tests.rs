@@ -10,7 +10,9 @@ use sercon_regs::value::interrupt::IntFlagsLo;
 use sercos_wire::time::Instant;
 
 use super::SimStats;
-use super::run_ahead_tests::{STEP, Watch, any_fault, run_with, six_slaves, us};
+use super::run_ahead_tests::{
+    STEP, Watch, any_fault, any_ring_and_faults, run_with, six_slaves, us,
+};
 use crate::fault::{Fault, FaultKind};
 use crate::host::{HostProgram, Wake};
 use crate::static_ring::StaticRing;
@@ -126,24 +128,8 @@ proptest::proptest! {
     // the same run with the short paths as without.
     #[test]
     fn any_ring_and_faults_run_the_same_without_the_short_paths(
-        slaves in 1usize..=6,
-        cycle_us in 250u16..=500,
-        words in 1u16..=3,
-        fibre_m in 1u32..=200,
-        faults in proptest::collection::vec(
-            (0u8..6, 0usize..8, 200u64..1300, 1u64..400), 0..=3),
-        trts in proptest::option::of(proptest::collection::vec(5u16..150, 6)),
+        (ring, faults) in any_ring_and_faults(),
     ) {
-        let mut ring = StaticRing::new(slaves, cycle_us);
-        ring.mdt_words = words;
-        ring.at_words = words;
-        ring.fibre_m = fibre_m;
-        ring.at_trt_override = trts;
-        proptest::prop_assume!(ring.build().is_ok());
-        let faults: Vec<Fault> = faults
-            .into_iter()
-            .map(|(kind, k, at, len)| any_fault(kind, k, at, len, slaves + 1))
-            .collect();
         same_either_way(&ring, &faults, us(1300), "any ring");
     }
 }
