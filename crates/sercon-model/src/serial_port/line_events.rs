@@ -337,7 +337,7 @@ mod tests {
             let (mut loud_levels, mut quiet_levels) = ((true, true), (true, true));
             let mut upto = 0u64;
             let mut latest = 0u64;
-            for step in 0..60 {
+            for step in 0..240 {
                 match next() % 8 {
                     0 => {
                         // Time goes on.
