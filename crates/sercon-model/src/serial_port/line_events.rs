@@ -336,7 +336,8 @@ mod tests {
             let mut quiet = LineEvents::default();
             let (mut loud_levels, mut quiet_levels) = ((true, true), (true, true));
             let mut upto = 0u64;
-            for step in 0..60 {
+            let mut latest = 0u64;
+            for step in 0..240 {
                 match next() % 8 {
                     0 => {
                         // Time goes on.
@@ -362,8 +363,14 @@ mod tests {
                     }
                     _ => {
                         // Mostly ahead of the applied instant, sometimes out of order,
-                        // now and then before it (a late input).
-                        let at = Instant::from_picos((upto + next() % 9).saturating_sub(2));
+                        // now and then before it (a late input); in every other round in
+                        // time order (as telegrams schedule them: the lists' usual case).
+                        let mut at = (upto + next() % 9).saturating_sub(2);
+                        if round % 2 == 1 {
+                            at = at.max(latest);
+                            latest = at;
+                        }
+                        let at = Instant::from_picos(at);
                         let change = match next() % 4 {
                             0 => Change::Idle(false),
                             1 => Change::Idle(true),
