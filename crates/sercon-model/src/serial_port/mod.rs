@@ -209,15 +209,7 @@ impl SerialPort {
             if self.tx.carried_forwarding {
                 // A copy the user carries is only followed: its hint is never read (a
                 // resume cuts it; spec-notes "Followed copies"), so it is not copied.
-                self.forwarded(LineSegment {
-                    start: seg.start,
-                    bit_time: seg.bit_time,
-                    signal: seg.signal.clone(),
-                    level_before: seg.level_before,
-                    hint: None,
-                    distorted: seg.distorted,
-                    then_filler: seg.then_filler,
-                })
+                self.forwarded(seg.without_hint())
             } else {
                 self.forwarded(seg.clone())
             }

@@ -198,6 +198,20 @@ impl LineSegment {
         (self, filler)
     }
 
+    /// A copy of this segment without its hint (the hint's telegram is not shared): what a
+    /// segment that is only followed for its levels keeps.
+    pub fn without_hint(&self) -> Self {
+        LineSegment {
+            start: self.start,
+            bit_time: self.bit_time,
+            signal: self.signal.clone(),
+            level_before: self.level_before,
+            hint: None,
+            distorted: self.distorted,
+            then_filler: self.then_filler,
+        }
+    }
+
     /// The same segment `delay` later.
     pub fn delayed(mut self, delay: Duration) -> Self {
         self.start = self.start.saturating_add(delay);

@@ -525,10 +525,7 @@ impl Transmitter {
     /// from a copy that is only followed: a resume cuts it, `LineSegment::from_instant`).
     #[cfg(debug_assertions)]
     fn followed_digest(&self) -> String {
-        let bare = |s: &LineSegment| LineSegment {
-            hint: None,
-            ..s.clone()
-        };
+        let bare = LineSegment::without_hint;
         let line = self.last_out.as_ref().map(|s| {
             if self.last_inv {
                 bare(s).inverted()
@@ -552,15 +549,7 @@ impl Transmitter {
         // call, and reading it twice (for the copy and for the store) waited twice on the
         // stores that built it (store forwarding; `docs/performance.md`, "Controller pair").
         self.released.push(seg);
-        self.last_out = self.released.last().map(|seg| LineSegment {
-            start: seg.start,
-            bit_time: seg.bit_time,
-            signal: seg.signal.clone(),
-            level_before: seg.level_before,
-            hint: None,
-            distorted: seg.distorted,
-            then_filler: seg.then_filler,
-        });
+        self.last_out = self.released.last().map(LineSegment::without_hint);
         self.last_inv = false;
         self.last_is_bg = false;
         self.implied_open = false;
