@@ -9,7 +9,6 @@ use sercon_regs::Register;
 use sercon_regs::ram::NMSTERR;
 
 use crate::chip::Chip;
-use crate::serial_port::HeardFrame;
 use crate::telegram_processor::status::{
     INT_MSTEARLY, INT_MSTLATE, INT_MSTMIS, INT_PHAS0, INT_PHASERR,
 };
@@ -48,14 +47,14 @@ fn tscyc_us(chip: &Chip) -> u64 {
 }
 
 /// An MST ended at `tick` (slave): phase, time check, cycle synchronisation.
-pub(crate) fn mst_end(chip: &mut Chip, tick: u64, frame: &HeardFrame) {
+pub(crate) fn mst_end(chip: &mut Chip, tick: u64, fcs_ok: bool, bytes: &[u8]) {
     let s = chip.engine.s;
-    if !s.is_sercos_slave() || !frame.fcs_ok {
+    if !s.is_sercos_slave() || !fcs_ok {
         // A master only times its own MST; an errored MST counts as missing when its
         // window closes.
         return;
     }
-    let phase = frame.bytes.get(1).copied().unwrap_or(0);
+    let phase = bytes.get(1).copied().unwrap_or(0);
     let period = chip.engine.pre.period().max(1);
     let (msttchk, _, _) = reg25(chip);
     let j1 = u64::from(chip.engine.regs.stored(Register::Jtscyc1));

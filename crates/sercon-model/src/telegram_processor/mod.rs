@@ -105,10 +105,14 @@ pub(crate) enum RxRole {
     Telegram { at: u16, hdr: RxHeader },
 }
 
-/// A frame whose start has passed.
+/// A frame whose start has passed: what its end reads (not the whole [`HeardFrame`], whose
+/// instants it no longer needs: docs/performance.md, session 12, rxnow).
 #[derive(Debug, Clone)]
 pub(crate) struct RxNow {
-    pub(crate) frame: HeardFrame,
+    /// The frame's bytes (ADR and data, FCS stripped).
+    pub(crate) bytes: crate::serial_port::Shared<[u8]>,
+    /// The frame ended with a flag and its FCS matched.
+    pub(crate) fcs_ok: bool,
     pub(crate) end_tick: u64,
     pub(crate) role: RxRole,
 }

@@ -28,9 +28,9 @@ pub(crate) fn next_tx_bound(chip: &Chip) -> Option<u64> {
         // it receives (crate::mst): the first MST's block bounds its telegrams; a later
         // MST (its block would abort that one) bounds them by its end.
         let mut first = true;
-        let mut mst = |end_tick: u64, frame: &crate::serial_port::HeardFrame| {
+        let mut mst = |end_tick: u64, fcs_ok: bool, bytes: &[u8]| {
             let bound = if first {
-                mst_block_bound(chip, end_tick, frame)
+                mst_block_bound(chip, end_tick, fcs_ok, bytes)
             } else {
                 Some(end_tick)
             };
@@ -40,10 +40,14 @@ pub(crate) fn next_tx_bound(chip: &Chip) -> Option<u64> {
         if let Some(now) = &tp.rx_now
             && now.role == super::RxRole::Mst
         {
-            consider(mst(now.end_tick, &now.frame));
+            consider(mst(now.end_tick, now.fcs_ok, &now.bytes));
         }
         for (tick, f) in tp.rx_queue.iter().filter(|(_, f)| is_mst(&f.bytes)) {
-            consider(mst(chip.clock.tick_at_or_after(f.end).max(*tick), f));
+            consider(mst(
+                chip.clock.tick_at_or_after(f.end).max(*tick),
+                f.fcs_ok,
+                &f.bytes,
+            ));
         }
     }
     if let Some(b) = &tp.block {
@@ -64,15 +68,11 @@ pub(crate) fn next_tx_bound(chip: &Chip) -> Option<u64> {
 /// The first transmit telegram of the block an MST ending at `end_tick` starts
 /// (`crate::mst::mst_end`: a good MST of an expected phase, the processor on); none for an
 /// MST that starts no block.
-fn mst_block_bound(
-    chip: &Chip,
-    end_tick: u64,
-    frame: &crate::serial_port::HeardFrame,
-) -> Option<u64> {
-    if !frame.fcs_ok || !super::tp_enabled(chip) {
+fn mst_block_bound(chip: &Chip, end_tick: u64, fcs_ok: bool, bytes: &[u8]) -> Option<u64> {
+    if !fcs_ok || !super::tp_enabled(chip) {
         return None;
     }
-    let phase = frame.bytes.get(1).copied().unwrap_or(0);
+    let phase = bytes.get(1).copied().unwrap_or(0);
     let block = crate::mst::phase_block(chip, phase)?;
     next_block_bound(chip, end_tick, block)
 }

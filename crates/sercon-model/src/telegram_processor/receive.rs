@@ -39,7 +39,8 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
         return;
     }
     chip.tp.rx_now = Some(RxNow {
-        frame,
+        bytes: frame.bytes,
+        fcs_ok: frame.fcs_ok,
         end_tick,
         role,
     });
@@ -114,9 +115,9 @@ pub(super) fn frame_end(chip: &mut Chip, tick: u64) {
     };
     match now.role {
         RxRole::Ignored => {}
-        RxRole::Mst => crate::mst::mst_end(chip, tick, &now.frame),
+        RxRole::Mst => crate::mst::mst_end(chip, tick, now.fcs_ok, &now.bytes),
         RxRole::Telegram { at, hdr } => {
-            finish(chip, tick, at, hdr, &now.frame.bytes, now.frame.fcs_ok);
+            finish(chip, tick, at, hdr, &now.bytes, now.fcs_ok);
         }
     }
 }
