@@ -3,6 +3,7 @@
 //! running; JSON lines carry `"stack":"full"`), and prints the real-time factor (simulated
 //! seconds per wall second) of each.
 
+use crate::stdout_lines::say;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use sercon_cli::full_stack;
@@ -119,8 +120,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
             args.scenario.clone().unwrap_or_default()
         );
     }
-    if !args.json {
-        println!("{BUILD} build");
+    if !args.json && !say!("{BUILD} build") {
+        return Ok(());
     }
     for s in ring {
         let cycle_us = u64::from(s.ring.cycle_us).max(1);
@@ -133,9 +134,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
             continue;
         };
         if args.json {
-            println!("{}", with_build_and_runs(r.to_json(), args.repeat, median));
+            if !say!("{}", with_build_and_runs(r.to_json(), args.repeat, median)) {
+                return Ok(());
+            }
         } else {
-            println!(
+            if !say!(
                 "{:<9} {:>3} slaves {:>2} Mbit/s {:>5} µs cycle: {:.3} s simulated in {:.3} s, {:.1}× real time, {:.1} µs wall per cycle{}",
                 r.scenario,
                 r.slaves,
@@ -146,7 +149,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 r.rtf,
                 r.wall_us_per_cycle,
                 runs_text(args.repeat, median)
-            );
+            ) {
+                return Ok(());
+            }
         }
     }
     let mut failed = Vec::new();
@@ -174,24 +179,31 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 // The other scenarios still run; the exit status says one failed.
                 if args.json {
                     let error = serde_json::Value::String(e.clone());
-                    println!(
+                    if !say!(
                         "{{\"scenario\":\"{}\",\"stack\":\"full\",\"slaves\":{},\"error\":{error}}}",
-                        s.name, s.drives
-                    );
+                        s.name,
+                        s.drives
+                    ) {
+                        return Ok(());
+                    }
                 } else {
-                    println!("{:<9} {:>3} drives: failed: {e}", s.name, s.drives);
+                    if !say!("{:<9} {:>3} drives: failed: {e}", s.name, s.drives) {
+                        return Ok(());
+                    }
                 }
                 failed.push(s.name);
                 continue;
             }
         };
         if args.json {
-            println!("{}", with_build_and_runs(r.to_json(), args.repeat, median));
+            if !say!("{}", with_build_and_runs(r.to_json(), args.repeat, median)) {
+                return Ok(());
+            }
         } else {
             let rss = r
                 .peak_rss_mib
                 .map_or_else(|| "?".to_string(), |m| format!("{m:.1}"));
-            println!(
+            if !say!(
                 "{:<9} {:>3} drives {:>2} Mbit/s {:>5} µs cycle, full stack: {:.3} s simulated in {:.3} s, {:.1}× real time, {:.1} µs wall per cycle; phase-up {:.3} s simulated in {:.3} s; peak RSS {} MiB{}",
                 r.scenario,
                 r.slaves,
@@ -205,7 +217,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 r.phaseup_wall_s,
                 rss,
                 runs_text(args.repeat, median)
-            );
+            ) {
+                return Ok(());
+            }
         }
     }
     if !failed.is_empty() {

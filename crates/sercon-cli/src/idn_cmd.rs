@@ -20,20 +20,7 @@ use serde_json::json;
 
 use crate::ring_shape::RingShape;
 
-/// Prints a line on stdout; a closed pipe (`sercon idn list | head`) ends the output
-/// quietly instead of panicking as `println!` does.
-macro_rules! say {
-    ($($arg:tt)*) => {
-        print_line(&format!($($arg)*))
-    };
-}
-
-fn print_line(line: &str) {
-    use std::io::Write;
-    let mut out = std::io::stdout().lock();
-    // A write error (the reader went away) is not the tool's failure: nothing to report.
-    let _ = writeln!(out, "{line}");
-}
+use crate::stdout_lines::say;
 use session::{Session, TargetPhase};
 
 /// `sercon idn …`.

@@ -12,6 +12,7 @@ mod idn_text;
 mod ring_cmd;
 mod ring_shape;
 mod script;
+mod stdout_lines;
 
 /// SERCOS interface tools: line captures, the SERCON controller model, simulated rings.
 #[derive(Debug, Parser)]

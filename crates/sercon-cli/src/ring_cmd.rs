@@ -1,6 +1,7 @@
 //! `sercon ring`: runs a full-stack simulated ring (the library's [`sercon_cli::ring`]) and
 //! prints its report; a progress bar on stderr when it is a terminal.
 
+use crate::stdout_lines::say;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
@@ -124,11 +125,12 @@ pub fn run(args: RingArgs) -> Result<()> {
     }
     ring::write_traces(&spec.traces, &outcome).context("traces")?;
     let report = &outcome.report;
+    // A closed stdout (`sercon ring | head`) ends the output quietly; the exit status below
+    // still says whether the ring reached phase 4.
     if args.json {
-        println!("{}", serde_json::to_string(report)?);
-    } else {
-        print!("{}", report.to_text());
-        println!("wall time: {:.2} s", wall.as_secs_f64());
+        say!("{}", serde_json::to_string(report)?);
+    } else if crate::stdout_lines::write(&report.to_text()) {
+        say!("wall time: {:.2} s", wall.as_secs_f64());
     }
     if report.result != RunResult::Phase4 {
         bail!(

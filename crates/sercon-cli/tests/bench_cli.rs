@@ -86,3 +86,36 @@ fn a_repeat_of_zero_is_refused_with_a_message() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--repeat"));
     assert!(out.stdout.is_empty());
 }
+
+/// Runs `sercon args…` with its stdout a pipe whose reading end is closed at once (`sercon …
+/// | head -0`): the output ends quietly, without a panic, and the exit status is the run's.
+fn with_stdout_closed(args: &[&str]) -> std::process::Output {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sercon"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("sercon starts");
+    drop(child.stdout.take());
+    child.wait_with_output().expect("sercon ends")
+}
+
+#[test]
+fn a_closed_stdout_ends_the_output_quietly() {
+    // Text and JSON, several scenarios: the first line already finds the pipe closed.
+    for json in [false, true] {
+        let mut args = vec!["bench", "--stack", "ring", "--sim-ms", "4"];
+        if json {
+            args.push("--json");
+        }
+        let out = with_stdout_closed(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(out.status.success(), "{err}");
+    }
+    let out = with_stdout_closed(&["ring", "--drives", "1", "--seconds", "0.3"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(out.status.success(), "{err}");
+}
