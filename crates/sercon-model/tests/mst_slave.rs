@@ -185,3 +185,23 @@ fn msts_of_block_1_are_timed_by_tscyc1_also_when_its_cycle_ends_with_them() {
     // §4.2 word 10 NMSTERR: no MST counted missing.
     assert_eq!(ring.slave.read_ram(10), 0);
 }
+
+#[test]
+fn a_corrupted_mst_counts_as_missing() {
+    // 410B §4.2 word 10 NMSTERR, 4H.9 INT_MSTMIS: an MST whose FCS fails is not taken (no
+    // phase, no cycle synchronisation); it counts as missing when its window closes, as a
+    // lost one does (spec-notes "MST later than TSCYC + JTSCYC2").
+    let mut ring = mst_ring(4);
+    ring.corrupt_master = vec![1];
+    ring.run_to(us(250));
+    assert_eq!(ring.slave.read_ram(10), 1);
+    assert_eq!(ring.slave.read(Register::IntFlagsLo) & (1 << 9), 0);
+    let mut ring = mst_ring(4);
+    ring.corrupt_master = vec![1, 2];
+    ring.run_to(us(350));
+    assert_eq!(ring.slave.read_ram(10), 2);
+    assert_ne!(ring.slave.read(Register::IntFlagsLo) & (1 << 9), 0);
+    // The MSTs after them are taken again: no further count.
+    ring.run_to(us(650));
+    assert_eq!(ring.slave.read_ram(10), 2);
+}
