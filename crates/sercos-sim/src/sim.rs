@@ -649,12 +649,27 @@ impl Simulation {
         // A chip run past its output (`run_ahead`) keeps what starts later until then.
         let until = node.clock.to_local(self.now);
         node.chip.take_line_output_until(until, &mut out);
-        for seg in out.drain(..) {
-            self.route_output(j, seg);
-        }
+        self.route_taken(j, &mut out);
         self.buf = out;
         if !self.deferred.is_empty() {
             self.route_deferred();
+        }
+    }
+
+    /// Sends on, in order, the segments taken from node `j`'s chip into `out`, leaving it
+    /// empty. A take is usually one segment (a telegram with its filler implied): popped,
+    /// without setting up and dropping a drain.
+    #[inline]
+    pub(super) fn route_taken(&mut self, j: usize, out: &mut Vec<LineSegment>) {
+        if out.len() <= 1 {
+            if let Some(seg) = out.pop() {
+                self.route_output(j, seg);
+            }
+            debug_assert!(out.is_empty(), "a taken segment was not sent on");
+            return;
+        }
+        for seg in out.drain(..) {
+            self.route_output(j, seg);
         }
     }
 

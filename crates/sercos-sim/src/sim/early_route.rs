@@ -44,9 +44,7 @@ impl Simulation {
                 };
                 let until = node.chip.now();
                 node.chip.take_line_output_until(until, &mut out);
-                for seg in out.drain(..) {
-                    self.route_output(j, seg);
-                }
+                self.route_taken(j, &mut out);
             }
             self.buf = out;
             self.stats.ats_sent_on += deferred.len() as u64;

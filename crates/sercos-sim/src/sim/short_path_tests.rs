@@ -163,3 +163,55 @@ fn input_after_a_woken_node_set_its_wake_puts_it_back() {
     sim.set_rewakes();
     assert!(!sim.is_rewake[0] && sim.rewake.is_empty());
 }
+
+// `route_taken` sends a take of several segments on as one `route_output` each, in order
+// (the usual take, one segment, is popped; the rest drained).
+#[test]
+fn a_take_of_several_segments_goes_on_in_order() {
+    use sercon_model::serial_port::{LineSegment, LineSignal};
+    use sercos_wire::time::Duration;
+
+    let build = || {
+        let Ok((cfg, hosts, _)) = six_slaves().build() else {
+            panic!("the ring fits");
+        };
+        let Ok(mut sim) = super::Simulation::new(cfg, hosts) else {
+            panic!("the simulation builds");
+        };
+        assert!(sim.run_until(us(700)).is_ok());
+        sim
+    };
+    // Two and three segments: both go past the one-segment pop.
+    for n in [2, 3] {
+        let (mut taken, mut each) = (build(), build());
+        let Some(slave) = taken.nodes.get(1) else {
+            panic!("a slave");
+        };
+        let at = slave.chip.now().saturating_add(Duration::from_micros(1));
+        let bit = Duration::from_nanos(62);
+        let segs = [
+            LineSegment::steady(at, bit, LineSignal::Dark, false),
+            LineSegment::steady(at.saturating_add(bit), bit, LineSignal::Light, false),
+            LineSegment::steady(
+                at.saturating_add(bit.saturating_mul(3)),
+                bit,
+                LineSignal::Filler,
+                false,
+            ),
+        ];
+        let segs = segs.get(3 - n..).unwrap_or_default();
+        let mut out = segs.to_vec();
+        taken.route_taken(1, &mut out);
+        assert!(out.is_empty(), "every segment sent on");
+        for s in segs {
+            each.route_output(1, s.clone());
+        }
+        assert!(taken.run_until(us(900)).is_ok() && each.run_until(us(900)).is_ok());
+        assert_eq!(taken.stats, each.stats, "{n} segments: counters");
+        assert_eq!(
+            super::test_state::chip_words(&mut taken, 64),
+            super::test_state::chip_words(&mut each, 64),
+            "{n} segments: registers and RAM"
+        );
+    }
+}
