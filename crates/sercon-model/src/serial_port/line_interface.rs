@@ -315,7 +315,8 @@ impl Chip {
     /// untraced IDLE / REACTN are applied when the chip's time has passed them
     /// ([`Chip::serial_apply_pin_levels`]).
     pub(crate) fn serial_next_loud_event(&self) -> Option<Instant> {
-        self.serial.next_loud_event_at(self.serial_pins_traced())
+        debug_assert_eq!(self.serial_pins_traced(), self.serial.pins_loud());
+        self.serial.next_loud_event()
     }
 
     /// Applies the IDLE / REACTN level changes at or before `t`.

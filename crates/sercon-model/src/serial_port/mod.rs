@@ -17,6 +17,7 @@ mod transmitter;
 use sercon_regs::Variant;
 use sercos_wire::time::{BitRate, Duration, Instant};
 
+use crate::chip::earliest;
 use crate::config::Straps;
 pub use segment::{FrameHint, LineSegment, LineSignal, Shared};
 
@@ -91,6 +92,12 @@ pub(crate) struct SerialPort {
     fibbr: bool,
     /// 410B §4.1 2H.12 RDIST.
     rdist: bool,
+    /// [`SerialPort::next_loud_event_at`] with the pins as loud as `events` keeps them,
+    /// kept where its inputs change (the line events pushed and taken, FIBBR's deadline set
+    /// and cleared: `line_input`, `transmit`, `step`, `apply_pin_levels`, `set_pins_loud`),
+    /// so that the chip's event loop, which asks at every turn, reads a field
+    /// ([`SerialPort::next_loud_event`]; debug builds compare with the computation).
+    loud: Option<Instant>,
 }
 
 /// The status a change altered, for the chip to report.
@@ -126,8 +133,10 @@ impl SerialPort {
             reactn: true,
             fibbr: false,
             rdist: false,
+            loud: None,
         };
         port.start_background(at);
+        port.refresh_loud();
         port
     }
 
@@ -230,6 +239,7 @@ impl SerialPort {
         if let Some(fwd) = fwd {
             self.tx.push_forwarded(fwd);
         }
+        self.refresh_loud();
     }
 
     /// Queues an own telegram at `at`; returns when its last bit leaves, `None` when nothing
@@ -243,6 +253,11 @@ impl SerialPort {
         // 410B §2 IDLE: "When transmitting own data IDLE is 0."
         self.events.push(placed.start, Change::Idle(false));
         self.events.push(placed.end, Change::Idle(true));
+        // Loud pins: both changes are in time order, the start first; quiet: neither counts.
+        if self.events.pins_loud() {
+            self.loud = earliest(self.loud, Some(placed.start));
+        }
+        debug_assert_eq!(self.loud, self.compute_loud());
         Some(placed.end)
     }
 
@@ -322,6 +337,24 @@ impl SerialPort {
         }
     }
 
+    /// [`SerialPort::next_loud_event_at`] with the pins as loud as the line events keep
+    /// them: the kept bound (`loud`).
+    #[inline]
+    pub(crate) fn next_loud_event(&self) -> Option<Instant> {
+        debug_assert_eq!(self.loud, self.compute_loud());
+        self.loud
+    }
+
+    /// `loud` from what it keeps.
+    fn compute_loud(&self) -> Option<Instant> {
+        self.next_loud_event_at(self.events.pins_loud())
+    }
+
+    /// Sets `loud` afresh after a change of the line events or FIBBR's deadline.
+    fn refresh_loud(&mut self) {
+        self.loud = self.compute_loud();
+    }
+
     /// Applies the IDLE / REACTN changes at or before `t` (pin levels only).
     pub(crate) fn apply_pin_levels(&mut self, t: Instant) {
         // Quiet: the changes up to `t` count from now on (`SerialPort::idle`).
@@ -339,6 +372,7 @@ impl SerialPort {
                 self.idle = l;
             }
         }
+        self.refresh_loud();
     }
 
     /// The instant of the next scheduled status change (including FIBBR's timeout).
@@ -388,6 +422,7 @@ impl SerialPort {
                 }
             }
         }
+        self.refresh_loud();
         Some((at, applied))
     }
 
@@ -425,6 +460,12 @@ impl SerialPort {
         let mut levels = (self.idle, self.reactn);
         self.events.set_pins_loud(loud, &mut levels);
         (self.idle, self.reactn) = levels;
+        self.refresh_loud();
+    }
+
+    /// Whether IDLE / REACTN changes are kept in time order ([`SerialPort::set_pins_loud`]).
+    pub(crate) fn pins_loud(&self) -> bool {
+        self.events.pins_loud()
     }
 
     /// 410B §4.1 2H.13 FIBBR.
