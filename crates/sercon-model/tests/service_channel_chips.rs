@@ -54,12 +54,7 @@ fn sc_ring(variant: Variant) -> Ring {
     let mut sc = ScMaster::from_words([0; 5]);
     sc.m_busy = true;
     m.write_ram_words(M_SC, &sc.to_words());
-    s.write(Register::Phas, 0xFF04);
-    s.write(Register::Ctrl3, ENTMT);
-    s.write(Register::Ctrl0C, MSTEN);
-    m.write(Register::Phas, 0x0404);
-    m.write(Register::Ctrl3, ENTMT);
-    m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
+    start_phase4(&mut m, &mut s);
     Ring::new(m, s)
 }
 
