@@ -63,6 +63,11 @@ pub(crate) struct LineEvents {
     pins_loud: bool,
     /// IDLE and REACTN changes while the pins are quiet.
     quiet: QuietPins,
+    /// Debug builds: `quiet` with every own telegram kept as its two changes (the general
+    /// form), and its levels before them (set at the first quiet read or application), to
+    /// compare the levels read with.
+    #[cfg(debug_assertions)]
+    shadow: (QuietPins, Option<(bool, bool)>),
 }
 
 /// Inserts `(at, change)` into the time-ordered `queue`, after the entries at `at`.
@@ -91,6 +96,8 @@ impl LineEvents {
         if change.is_pin_level() {
             if !self.pins_loud {
                 self.quiet.push(at, change);
+                #[cfg(debug_assertions)]
+                self.shadow.0.push(at, change);
                 return;
             }
             insert(&mut self.pins, at, change);
@@ -112,6 +119,39 @@ impl LineEvents {
         self.fronts.0 = Some(self.fronts.0.map_or(at, |f| f.min(at)));
         debug_assert_eq!(self.fronts, self.compute_fronts());
         debug_assert_eq!(self.rdist_last, self.compute_rdist_last());
+    }
+
+    /// Schedules an own telegram's IDLE changes (410B §2 IDLE: 0 from `start` while the
+    /// telegram is sent, 1 from `end`); quiet, they are kept as the interval
+    /// (`QuietPins::push_own`).
+    pub(crate) fn push_own_idle(&mut self, start: Instant, end: Instant) {
+        if self.pins_loud {
+            self.push(start, Change::Idle(false));
+            self.push(end, Change::Idle(true));
+            return;
+        }
+        self.quiet.push_own(start, end);
+        #[cfg(debug_assertions)]
+        {
+            self.shadow.0.push(start, Change::Idle(false));
+            self.shadow.0.push(end, Change::Idle(true));
+        }
+    }
+
+    /// Debug builds: the levels read with the own intervals equal those of the general
+    /// form (`shadow`); `base` is the caller's levels before the changes kept.
+    #[cfg(debug_assertions)]
+    fn check_quiet(&mut self, base: (bool, bool)) {
+        let shadow_base = *self.shadow.1.get_or_insert(base);
+        let got = (
+            self.quiet.level(PinLine::Idle, base.0),
+            self.quiet.level(PinLine::Reactn, base.1),
+        );
+        let want = (
+            self.shadow.0.level(PinLine::Idle, shadow_base.0),
+            self.shadow.0.level(PinLine::Reactn, shadow_base.1),
+        );
+        debug_assert_eq!(got, want, "quiet pin levels: own intervals against changes");
     }
 
     /// `rdist_last` from the queue.
@@ -205,6 +245,8 @@ impl LineEvents {
         self.status.retain(|(at, c)| *at < t || !c.is_receive());
         self.pins.retain(|(at, c)| *at < t || !c.is_receive());
         self.quiet.cancel_receive_from(t);
+        #[cfg(debug_assertions)]
+        self.shadow.0.cancel_receive_from(t);
         self.fronts = self.compute_fronts();
         self.rdist_last = self.compute_rdist_last();
     }
@@ -216,12 +258,32 @@ impl LineEvents {
 
     /// The level of `pin` while the pins are quiet (`QuietPins::level`).
     pub(crate) fn quiet_level(&self, pin: PinLine, base: bool) -> bool {
+        #[cfg(debug_assertions)]
+        if let Some(b) = self.shadow.1 {
+            let shadow_base = if pin == PinLine::Idle { b.0 } else { b.1 };
+            debug_assert_eq!(
+                self.quiet.level(pin, base),
+                self.shadow.0.level(pin, shadow_base),
+                "quiet pin level of {pin:?}: own intervals against changes"
+            );
+        }
         self.quiet.level(pin, base)
     }
 
     /// The instant the pin levels are applied to moves on to `t` (`QuietPins::apply`).
     pub(crate) fn apply_quiet_pins(&mut self, t: Instant, levels: &mut (bool, bool)) {
+        // Loud, the levels are the port's own (applied in time order): nothing to compare.
+        #[cfg(debug_assertions)]
+        if !self.pins_loud {
+            let mut b = *self.shadow.1.get_or_insert(*levels);
+            self.shadow.0.apply(t, &mut b);
+            self.shadow.1 = Some(b);
+        }
         self.quiet.apply(t, levels);
+        #[cfg(debug_assertions)]
+        if !self.pins_loud {
+            self.check_quiet(*levels);
+        }
     }
 
     /// Keeps IDLE / REACTN changes in time order from now on (`loud`) or not; `levels`
@@ -232,7 +294,16 @@ impl LineEvents {
         }
         if loud {
             self.pins_loud = true;
-            // In the order they were scheduled: the queue keeps that order within an instant.
+            #[cfg(debug_assertions)]
+            {
+                let mut b = self.shadow.1.take().unwrap_or(*levels);
+                drop(self.shadow.0.take_pending(&mut b));
+                let mut l = *levels;
+                drop(self.quiet.clone().take_pending(&mut l));
+                debug_assert_eq!(l, b, "levels handed over: own intervals against changes");
+            }
+            // In the order they were scheduled: the queue keeps that order within an instant
+            // (an own interval's two changes come last).
             for (at, change) in self.quiet.take_pending(levels) {
                 self.push(at, change);
             }
@@ -240,8 +311,15 @@ impl LineEvents {
             // The queue holds only changes after the applied instant (applied in time order
             // up to it).
             self.pins_loud = false;
+            #[cfg(debug_assertions)]
+            {
+                // Empty since `take_pending`, at the applied instant.
+                self.shadow = (self.quiet.clone(), Some(*levels));
+            }
             for (at, change) in self.pins.drain(..) {
                 self.quiet.push(at, change);
+                #[cfg(debug_assertions)]
+                self.shadow.0.push(at, change);
             }
             self.fronts = self.compute_fronts();
         }
@@ -337,6 +415,7 @@ mod tests {
             let (mut loud_levels, mut quiet_levels) = ((true, true), (true, true));
             let mut upto = 0u64;
             let mut latest = 0u64;
+            let mut own_end = 0u64;
             for step in 0..240 {
                 match next() % 8 {
                     0 => {
@@ -361,6 +440,15 @@ mod tests {
                         quiet.set_pins_loud(true, &mut quiet_levels);
                         quiet.set_pins_loud(false, &mut quiet_levels);
                     }
+                    3 | 4 => {
+                        // An own telegram (410B §2 IDLE), placed after the one before as
+                        // the transmitter does, sometimes before the applied instant.
+                        let start = (upto + next() % 7).saturating_sub(2).max(own_end);
+                        own_end = start + next() % 6;
+                        let (s, e) = (Instant::from_picos(start), Instant::from_picos(own_end));
+                        loud.push_own_idle(s, e);
+                        quiet.push_own_idle(s, e);
+                    }
                     _ => {
                         // Mostly ahead of the applied instant, sometimes out of order,
                         // now and then before it (a late input); in every other round in
@@ -371,7 +459,9 @@ mod tests {
                             latest = at;
                         }
                         let at = Instant::from_picos(at);
+                        // In every fifth round IDLE changes come from own telegrams only.
                         let change = match next() % 4 {
+                            _ if round % 5 == 4 => Change::Reactn(next() % 2 == 0),
                             0 => Change::Idle(false),
                             1 => Change::Idle(true),
                             2 => Change::Reactn(false),

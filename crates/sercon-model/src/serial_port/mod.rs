@@ -251,8 +251,7 @@ impl SerialPort {
         let bt = self.tx_bit_time()?;
         let placed = self.tx.transmit(at, bt, self.cfg.presync, telegram)?;
         // 410B §2 IDLE: "When transmitting own data IDLE is 0."
-        self.events.push(placed.start, Change::Idle(false));
-        self.events.push(placed.end, Change::Idle(true));
+        self.events.push_own_idle(placed.start, placed.end);
         // Loud pins: both changes are in time order, the start first; quiet: neither counts.
         if self.events.pins_loud() {
             self.loud = earliest(self.loud, Some(placed.start));

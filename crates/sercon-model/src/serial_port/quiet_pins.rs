@@ -49,6 +49,15 @@ pub(crate) struct QuietPins {
     unsorted: bool,
     /// The instant the pin levels are applied to.
     applied: Instant,
+    /// The latest own telegram's IDLE interval (410B §2 IDLE: "When transmitting own data
+    /// IDLE is 0"): 0 from the first instant, 1 again from the second, both no earlier than
+    /// the applied instant when kept. It stands for the two changes a time-ordered queue
+    /// would hold, and comes after every IDLE change in `changes`, in time and as scheduled
+    /// (spec-notes "Own IDLE interval").
+    own: Option<(Instant, Instant)>,
+    /// The end of the own interval `own` replaced, which was at or before the applied
+    /// instant then: IDLE is 1 before `own` whatever `changes` and the base say.
+    own_ended: Option<Instant>,
 }
 
 /// Notes a change of its pin at `at` after the ones noted in `last` (IDLE, REACTN); returns
@@ -69,9 +78,55 @@ impl QuietPins {
     /// after the changes applied (as a time-ordered queue applies it with its next
     /// application, after those it applied before).
     pub(crate) fn push(&mut self, at: Instant, change: Change) {
+        if matches!(change, Change::Idle(_)) {
+            // After the own interval as scheduled.
+            self.flush_own();
+        }
         let at = at.max(self.applied);
+        self.keep(at, change);
+    }
+
+    /// Appends a change as it is.
+    fn keep(&mut self, at: Instant, change: Change) {
         self.unsorted |= follows_out_of_order(&mut self.last, at, change);
         self.changes.push((at, change));
+    }
+
+    /// Keeps an own telegram's IDLE changes (0 at `start`, 1 at `end`; 410B §2 IDLE) as
+    /// the interval `own` when they come after every IDLE change kept (the usual case: the
+    /// transmitter places a telegram after the one it sends), else as the two changes.
+    pub(crate) fn push_own(&mut self, start: Instant, end: Instant) {
+        let (start, end) = (start.max(self.applied), end.max(self.applied));
+        if let Some((_, e)) = self.own {
+            if e <= self.applied {
+                // Its end counts already: IDLE is 1 until the new one starts.
+                self.own = None;
+                self.own_ended = Some(e);
+            } else {
+                self.flush_own();
+            }
+        }
+        if self.unsorted || start < self.last.0 || end < start {
+            // Not after every IDLE change kept (`last.0` is the latest while the list is in
+            // time order): as changes.
+            self.flush_own();
+            self.keep(start, Change::Idle(false));
+            self.keep(end, Change::Idle(true));
+            return;
+        }
+        self.own = Some((start, end));
+    }
+
+    /// Puts the own interval (and the end it replaced) into `changes` as the changes it
+    /// stands for.
+    fn flush_own(&mut self) {
+        if let Some(e) = self.own_ended.take() {
+            self.keep(e, Change::Idle(true));
+        }
+        if let Some((s, e)) = self.own.take() {
+            self.keep(s, Change::Idle(false));
+            self.keep(e, Change::Idle(true));
+        }
     }
 
     /// The level of `pin`: its change latest in time at or before the applied instant (of
@@ -79,6 +134,17 @@ impl QuietPins {
     /// them), else `base`.
     pub(crate) fn level(&self, pin: PinLine, base: bool) -> bool {
         let upto = self.applied;
+        if pin == PinLine::Idle {
+            // The own interval is the latest IDLE change in time and as scheduled.
+            if let Some((s, e)) = self.own
+                && s <= upto
+            {
+                return upto >= e;
+            }
+            if self.own_ended.is_some() {
+                return true;
+            }
+        }
         if !self.unsorted {
             // Each pin's changes in time order: its latest one at or before `upto` is the
             // last such one (of several at one instant, the last scheduled).
@@ -130,6 +196,11 @@ impl QuietPins {
         } else {
             self.changes.retain(|(at, _)| *at > upto);
         }
+        // Read into `levels`: what is left of the own interval comes after them.
+        self.own_ended = None;
+        if self.own.is_some_and(|(_, e)| e <= upto) {
+            self.own = None;
+        }
         if self.unsorted {
             // Whether what is left is in time order again, pin by pin.
             let mut last = (Instant::default(), Instant::default());
@@ -157,6 +228,7 @@ impl QuietPins {
         levels: &mut (bool, bool),
     ) -> std::vec::IntoIter<(Instant, Change)> {
         self.fold(levels);
+        self.flush_own();
         self.last = (Instant::default(), Instant::default());
         self.unsorted = false;
         std::mem::take(&mut self.changes).into_iter()
