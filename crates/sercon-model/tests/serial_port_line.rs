@@ -230,10 +230,19 @@ fn idle_and_reactn_pin_events() {
 // 410B §2 IDLE / REACTN and §4.1 3H.14–15: with the pins untraced their changes are kept
 // as scheduled and read when asked for (spec-notes "Quiet pins"); what a read sees is the
 // same as with the pins traced, also across a trace switched on and off mid-run, with
-// telegrams received ahead of the chip's time and the slave sending its own.
+// telegrams received ahead of the chip's time and the slave sending its own; and with the
+// sender's filler implied (one segment per telegram, the receivers' filler-to-filler path,
+// which keeps the serial port's loud bound when the pins are quiet only).
 #[test]
 fn idle_and_reactn_levels_are_the_same_traced_or_not() {
+    for implied in [false, true] {
+        idle_and_reactn_levels_traced_or_not(implied);
+    }
+}
+
+fn idle_and_reactn_levels_traced_or_not(implied: bool) {
     let mut master = chip816(false);
+    master.set_implied_filler(implied);
     let mut segs = Vec::new();
     let mut ends = Vec::new();
     for k in 0..12u64 {
@@ -293,6 +302,51 @@ fn idle_and_reactn_levels_are_the_same_traced_or_not() {
     // The walk saw both pins low and high.
     assert!(lows.0 > 10 && lows.1 > 100, "{lows:?}");
     assert!(step > 1000);
+}
+
+// 410B §2 REACTN: telegrams with their filler implied, each handed over after the chip ran
+// past everything the one before scheduled (as a ring hands them over), take the receivers'
+// filler-to-filler path; a traced REACTN's changes are then the port's next loud events,
+// and the levels and flags read at every step are those of the untraced chip.
+#[test]
+fn implied_filler_telegrams_after_quiet_gaps_keep_reactn_traced_or_not() {
+    let mut master = chip816(false);
+    master.set_implied_filler(true);
+    let traced = PinSet::of(&[Pin::Idle, Pin::Reactn]);
+    let mut a = chip816(false);
+    a.set_traced_pins(traced);
+    let mut b = chip816(false);
+    let mut t = us(1);
+    let mut lows = 0u32;
+    for k in 0..10u64 {
+        let at = us(4 + 9 * k);
+        let bytes: &[u8] = if k % 2 == 0 { &MST } else { &MDT };
+        let end = master.transmit_telegram(at, bytes).expect("sent");
+        let segs = output_until(&mut master, end + Duration::from_nanos(300));
+        for s in segs {
+            // Each chip has applied every change before the segment comes.
+            for chip in [&mut a, &mut b] {
+                chip.advance_to(s.start.max(t));
+                chip.line_input(s.clone());
+            }
+        }
+        while t < end + Duration::from_micros(4) {
+            let read = |chip: &mut Chip| {
+                chip.advance_to(t);
+                (
+                    chip.read_register(3) & (3 << 14),
+                    chip.pin_level(Pin::Idle),
+                    chip.pin_level(Pin::Reactn),
+                )
+            };
+            let want = read(&mut a);
+            assert_eq!(read(&mut b), want, "untraced at {t:?}");
+            lows += u32::from(!want.2);
+            t += Duration::from_nanos(97);
+        }
+    }
+    // REACTN was seen low (a telegram being received).
+    assert!(lows > 20, "{lows}");
 }
 
 #[test]

@@ -228,7 +228,7 @@ impl SerialPort {
             log.push(&f);
             frames(f);
         };
-        self.rx.input(
+        let short = self.rx.input(
             seg,
             &self.cfg,
             Sinks {
@@ -239,7 +239,12 @@ impl SerialPort {
         if let Some(fwd) = fwd {
             self.tx.push_forwarded(fwd);
         }
-        self.refresh_loud();
+        // The filler-to-filler path leaves FIBBR's deadline unset and schedules only
+        // REACTN's pulse (410B §2 REACTN), which counts as a loud event only while the pins
+        // are loud: the kept bound stands (debug builds compare it at every read).
+        if !short || self.events.pins_loud() {
+            self.refresh_loud();
+        }
     }
 
     /// Queues an own telegram at `at`; returns when its last bit leaves, `None` when nothing

@@ -173,12 +173,15 @@ impl Receiver {
     /// A segment with an implied filler is taken as the two segments it stands for
     /// ([`LineSegment::split_filler`]); when the next segment starts no later than that
     /// filler, the filler is taken back first, so the receiver ends as if it had never come.
+    ///
+    /// Returns whether [`Receiver::filler_to_filler`] took it: then FIBBR's deadline stays
+    /// unset and no FIBBR / RDIST change was scheduled (only REACTN's pulse).
     pub(crate) fn input<F: FnMut(HeardFrame)>(
         &mut self,
         seg: LineSegment,
         cfg: &PortConfig,
         sinks: Sinks<'_, F>,
-    ) {
+    ) -> bool {
         let Sinks { events, frames } = sinks;
         if self.is_filler_to_filler(&seg, cfg, events) {
             #[cfg(debug_assertions)]
@@ -190,9 +193,10 @@ impl Receiver {
                 (self.digest(), events.digest()),
                 "the filler-to-filler path differs from the general one"
             );
-            return;
+            return true;
         }
         self.input_general(seg, cfg, events, frames);
+        false
     }
 
     /// [`Receiver::input`] of any segment.
