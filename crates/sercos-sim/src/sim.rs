@@ -751,12 +751,16 @@ impl Simulation {
             return;
         }
         let n = self.nodes.len();
+        let fast = self.delivery == Delivery::Fast;
         if origin == 0 {
             self.master_next = None;
+            if fast && self.plain_ring && self.short_paths {
+                self.propagate_master_plain(from, seg);
+                return;
+            }
         }
         let mut cur = from;
         let mut enter = enter;
-        let fast = self.delivery == Delivery::Fast;
         // Fast path: a slave's telegram or filler goes to no slave (see below), so through
         // a run of plain repeaters (410B §1: "The slaves regenerate and repeat their received
         // data") it only moves by fibre delay plus repeater latency, hop after hop, without
@@ -856,6 +860,57 @@ impl Simulation {
             // The segment's bit time is the same at every hop.
             let lat =
                 *lat.get_or_insert_with(|| seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS));
+            let l_out = node.clock.to_local(seg.start).saturating_add(lat);
+            seg.start = node.clock.to_global(l_out);
+            seg.distorted = false;
+            let Some(mut floor) = self.out_floors.get(next) else {
+                return;
+            };
+            node.put_out(&mut floor, &mut seg, false);
+            self.out_floors.set(next, floor);
+            self.floor_written(next);
+            cur = next;
+        }
+    }
+
+    /// [`Simulation::propagate`] of a master's segment on a plain ring (`plain_ring`) on the
+    /// fast path: the same hops with what is the same at every hop found once (no fibre
+    /// to split, fault or trace, no power window; every node gets the master's segment;
+    /// the repeater latency from the one bit time, 410B §1).
+    fn propagate_master_plain(&mut self, from: usize, mut seg: LineSegment) {
+        let n = self.nodes.len();
+        let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        let mut cur = from;
+        for _ in 0..n {
+            let next = if cur + 1 >= n { 0 } else { cur + 1 };
+            let Some(delay) = self.seg_delays.get(cur) else {
+                return;
+            };
+            seg.start = seg.start.saturating_add(*delay);
+            debug_assert!(
+                self.segments.get(cur).is_some_and(|s| s.plain)
+                    && self
+                        .nodes
+                        .get(next)
+                        .is_some_and(|n| n.off_windows.is_empty()),
+                "a plain ring's fibre or node is not plain"
+            );
+            let Some(node) = self.nodes.get(next) else {
+                return;
+            };
+            // A plain ring's nodes have no power windows (`plain_ring`).
+            if !node.powered {
+                return;
+            }
+            if !node.repeating || next == 0 {
+                // The last hop: the segment itself goes to the receiver.
+                self.deliver(next, seg, 0, false);
+                return;
+            }
+            self.deliver(next, seg.clone(), 0, true);
+            let Some(node) = self.nodes.get_mut(next) else {
+                return;
+            };
             let l_out = node.clock.to_local(seg.start).saturating_add(lat);
             seg.start = node.clock.to_global(l_out);
             seg.distorted = false;
