@@ -61,6 +61,13 @@ pub(crate) struct Transmitter {
     own: VecDeque<Own>,
     /// Background segments not yet released, by start.
     background: VecDeque<Queued>,
+    /// A carried copy queued right after the carried copy that is the background's only
+    /// entry (an intact ring's MDT copy after its MST copy), kept here instead of a queue
+    /// entry of its own, with the inversion it is followed with by the line's level at the
+    /// entry's start (index 0: low, 1: high), chained over that entry (spec-notes "Merged
+    /// carried copies"). Any other push, or a release that does not follow both, puts it
+    /// into the queue first ([`Transmitter::split_merged`]).
+    tail: Option<(LineSegment, [bool; 2])>,
     /// How many of `background` are not carried (released as output when their time
     /// comes): asked by [`Transmitter::sole_own`] once per own telegram, kept at every
     /// change of the queue instead of a walk of it.
@@ -170,6 +177,28 @@ impl Transmitter {
 
     fn queue_background(&mut self, seg: LineSegment, carried: bool) {
         let start = seg.start;
+        if self.tail.is_some() {
+            self.split_merged();
+        } else if carried
+            && self.background.len() == 1
+            && let Some(b) = self.background.back()
+            && b.carried
+            && b.seg.start < start
+        {
+            // A carried copy after a carried copy (410B §1 repeater): its inversion chained
+            // from the level the one before leaves at its start (`Transmitter::skip_followed`;
+            // spec-notes "Merged carried copies").
+            let bits = matches!(seg.signal, LineSignal::Bits(_));
+            let level = b.seg.level_at(start);
+            let first = single_inv(&b.seg);
+            let inv = [
+                bits && seg.level_before != (level != first[0]),
+                bits && seg.level_before != (level != first[1]),
+            ];
+            self.tail = Some((seg, inv));
+            debug_assert_eq!(self.next_release, self.compute_next_release());
+            return;
+        }
         while self.background.back().is_some_and(|b| b.seg.start >= start) {
             if let Some(b) = self.background.pop_back() {
                 self.uncarried = self.uncarried.saturating_sub(usize::from(!b.carried));
@@ -183,6 +212,23 @@ impl Transmitter {
         self.next_release = earliest(self.next_release, Some(start));
         debug_assert_eq!(self.next_release, self.compute_next_release());
         debug_assert_eq!(self.uncarried, self.count_uncarried());
+    }
+
+    /// Puts the merged copy ([`Transmitter::tail`]) into the queue: the queue of separate
+    /// copies.
+    #[cold]
+    fn split_merged(&mut self) {
+        if let Some((seg, _)) = self.tail.take() {
+            self.background.push_back(Queued { seg, carried: true });
+        }
+    }
+
+    /// The transmitter as the queue of separate copies leaves it (debug comparisons).
+    #[cfg(debug_assertions)]
+    fn separate(&self) -> Transmitter {
+        let mut t = self.clone();
+        t.split_merged();
+        t
     }
 
     /// [`Transmitter::uncarried`] from the queue.
@@ -273,7 +319,7 @@ impl Transmitter {
     pub(crate) fn release(&mut self, now: Instant) {
         #[cfg(debug_assertions)]
         let general = {
-            let mut general = self.clone();
+            let mut general = self.separate();
             general.release_with::<false>(now);
             format!("{general:?}")
         };
@@ -281,7 +327,7 @@ impl Transmitter {
         #[cfg(debug_assertions)]
         debug_assert_eq!(
             general,
-            format!("{self:?}"),
+            format!("{:?}", self.separate()),
             "the release's short paths differ from the general loop"
         );
     }
@@ -333,6 +379,35 @@ impl Transmitter {
                     self.silent_resume = false;
                 }
             } else if bg_at == Some(t) {
+                if let Some((tail, tail_inv)) = self.tail.take() {
+                    // The background's only entry and the copy merged after it, followed as
+                    // one when the release loop would follow both: the first past the last
+                    // own telegram's end, the second at or before `now` and before the next
+                    // own telegram (which wins a tie).
+                    if self.background.len() == 1
+                        && t >= self.own_until
+                        && tail.start <= now
+                        && own_at.is_none_or(|o| tail.start < o)
+                    {
+                        self.background.clear();
+                        self.resume_at = None;
+                        self.silent_resume = false;
+                        let invert = tail_inv[usize::from(self.level_at(t))];
+                        #[cfg(debug_assertions)]
+                        let expected = self.followed_general(&tail, invert);
+                        self.follow(tail, invert);
+                        #[cfg(debug_assertions)]
+                        debug_assert_eq!(
+                            expected,
+                            self.followed_digest(),
+                            "a merged copy differs from the general path's"
+                        );
+                        continue;
+                    }
+                    // Not followed as one (or a resumed rest before it): taken copy by copy.
+                    self.tail = Some((tail, tail_inv));
+                    self.split_merged();
+                }
                 let Some(Queued { seg, carried }) = self.background.pop_front() else {
                     break;
                 };
@@ -576,6 +651,14 @@ impl Transmitter {
     }
 }
 
+/// The inversion a carried copy is followed with, by the line's level at its start (index 0:
+/// low, 1: high): a telegram from the other level than its `level_before` (410B §1 repeater;
+/// spec-notes "Followed copies").
+fn single_inv(seg: &LineSegment) -> [bool; 2] {
+    let bits = matches!(seg.signal, LineSignal::Bits(_));
+    [bits && seg.level_before, bits && !seg.level_before]
+}
+
 /// Whether background `bg` resumed at `at` is plain filler of bit time `bit_time` (filler,
 /// or the implied filler of a forwarded telegram that has ended by then), undistorted.
 fn resumes_filler(bg: &LineSegment, at: Instant, bit_time: Duration) -> bool {
@@ -644,6 +727,46 @@ mod tests {
         .then(|| (own.start, own.end(), own.bit_time))
     }
 
+    /// A merged copy behind a resumed rest (a shadowed telegram resumed at its next bit
+    /// boundary, queued before the merged entry): the rest is released, then the copies are
+    /// followed, as with the queue of separate copies (spec-notes "Merged carried copies").
+    #[test]
+    fn a_resumed_rest_before_a_merged_copy_is_released() {
+        let bt = Duration::from_picos(BT);
+        let at = |bits: u64| Instant::from_picos(bits * BT);
+        let mut tx = Transmitter {
+            carried_forwarding: true,
+            ..Transmitter::default()
+        };
+        let mut plain = tx.clone();
+        let bits = |n: usize| {
+            let mut v = BitVec::new();
+            for i in 0..n {
+                v.push(i % 3 == 0);
+            }
+            v
+        };
+        let own_at = Instant::from_picos(21 * BT / 2);
+        for t in [&mut tx, &mut plain] {
+            t.transmit(own_at, bt, false, &[0x12, 0x34]);
+            t.push_forwarded(LineSegment::bits(at(11), bt, bits(200), false));
+            t.release_with::<true>(at(12));
+            t.push_forwarded(LineSegment::bits(at(300), bt, bits(20), true));
+            t.push_forwarded(LineSegment::bits(at(310), bt, bits(20), false));
+        }
+        plain.split_merged();
+        assert!(tx.tail.is_some(), "the second copy is merged");
+        let mut out = Vec::new();
+        let mut plain_out = Vec::new();
+        tx.release(at(400));
+        tx.take_released(&mut out);
+        plain.release_with::<false>(at(400));
+        plain.take_released(&mut plain_out);
+        assert!(!out.is_empty(), "the resumed rest is released");
+        assert_eq!(out, plain_out);
+        assert_eq!(format!("{plain:?}"), format!("{:?}", tx.separate()));
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(512))]
 
@@ -660,9 +783,12 @@ mod tests {
                 carried_forwarding: true,
                 ..Transmitter::default()
             };
+            // The queue of separate copies: split after every push (never merged).
+            let mut plain = tx.clone();
             let bt = Duration::from_picos(BT);
             let at = |now: u64, off: u64| Instant::from_picos((now + off) * BT);
             tx.push_background(LineSegment::steady(at(0, 0), bt, LineSignal::Filler, false));
+            plain.push_background(LineSegment::steady(at(0, 0), bt, LineSignal::Filler, false));
             let mut now = 0u64;
             for op in ops {
                 match op {
@@ -680,11 +806,14 @@ mod tests {
                             }
                             None => LineSegment::steady(at(now, off), bt, LineSignal::Filler, level),
                         };
+                        plain.push_forwarded(seg.clone());
+                        plain.split_merged();
                         tx.push_forwarded(seg);
                     }
                     Op::Background { off, filler } => {
                         let signal = if filler { LineSignal::Filler } else { LineSignal::Dark };
-                        tx.push_background(LineSegment::steady(at(now, off), bt, signal, false));
+                        tx.push_background(LineSegment::steady(at(now, off), bt, signal.clone(), false));
+                        plain.push_background(LineSegment::steady(at(now, off), bt, signal, false));
                     }
                     Op::Own { off, half, len, presync } => {
                         // Half a bit time off the grid: a shadowed telegram resumes at its
@@ -692,19 +821,31 @@ mod tests {
                         let telegram: Vec<u8> = (0..len).map(|i| i.wrapping_mul(0x5B)).collect();
                         let start = at(now, off).saturating_add(Duration::from_picos(BT / 2 * u64::from(half)));
                         tx.transmit(start, bt, presync, &telegram);
+                        plain.transmit(start, bt, presync, &telegram);
                     }
                     Op::Release(d, half) => {
                         now += d;
                         let until = at(now, 0).saturating_add(Duration::from_picos(BT / 2 * u64::from(half)));
-                        let mut general = tx.clone();
+                        let mut general = plain.clone();
                         general.release_with::<false>(until);
                         tx.release_with::<true>(until);
-                        prop_assert_eq!(format!("{general:?}"), format!("{tx:?}"));
+                        prop_assert_eq!(format!("{general:?}"), format!("{:?}", tx.separate()));
+                        plain.release_with::<true>(until);
                         // Taken as a simulation takes them (then `sole_own` can answer).
                         tx.take_released(&mut Vec::new());
+                        plain.take_released(&mut Vec::new());
                     }
                 }
-                // What is kept beside the queues matches them.
+                // What is kept beside the queues matches them, and what is asked of the
+                // queues between releases is what the queue of separate copies says.
+                prop_assert_eq!(format!("{plain:?}"), format!("{:?}", tx.separate()));
+                prop_assert_eq!(tx.next_release_at(), plain.next_release_at());
+                prop_assert_eq!(tx.next_own_release_at(), plain.next_own_release_at());
+                prop_assert_eq!(
+                    tx.background_starts().collect::<Vec<_>>(),
+                    plain.background_starts().collect::<Vec<_>>()
+                );
+                prop_assert_eq!(tx.sole_own(), plain.sole_own());
                 prop_assert_eq!(tx.uncarried, tx.count_uncarried());
                 prop_assert_eq!(tx.next_release, tx.compute_next_release());
                 prop_assert_eq!(tx.sole_own(), sole_own_from_queues(&tx));
