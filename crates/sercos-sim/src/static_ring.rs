@@ -67,6 +67,12 @@ pub struct StaticRing {
     pub at_trt_override: Option<Vec<u16>>,
     /// Slaves repeat (1H.3 REPON = 1): on for a ring, off for an RS-485 bus.
     pub repon: bool,
+    /// The MDT after the ATs (MST, AT 1 … AT n, MDT: the order SERCOS drives are usually
+    /// configured in, AT transmission starting time T1 before the MDT's T2, and the one the
+    /// master driver plans, `sercdrv::timing`) instead of right after the MST (MST, MDT,
+    /// AT 1 … AT n). Each node's header list follows the telegrams' order in time
+    /// (410B §4.2: the processor works through the list in order).
+    pub mdt_after_ats: bool,
 }
 
 impl StaticRing {
@@ -83,6 +89,7 @@ impl StaticRing {
             seed: 1,
             at_trt_override: None,
             repon: true,
+            mdt_after_ats: false,
         }
     }
 }
@@ -179,12 +186,25 @@ impl StaticRing {
             .ok_or_else(|| SimError::Layout("MDT too long".into()))?;
         let mdt_us = us(worst_frame_bits(1 + 2 * u64::from(mdt_tlen)));
         let at_us = us(worst_frame_bits(1 + 2 * u64::from(self.at_words)));
-        let mut t = u64::from(MDT_TRT_US) + mdt_us + GAP_US;
+        // The first telegram after the MST starts MDT_TRT_US after its end; each next one a
+        // gap after the one before (410B §4.2.1 TRT).
+        let trt = |t: u64| u16::try_from(t).map_err(|_| SimError::Layout("TRT overflow".into()));
+        let mut t = u64::from(MDT_TRT_US);
+        if !self.mdt_after_ats {
+            t += mdt_us + GAP_US;
+        }
         let mut at_trt = Vec::with_capacity(n);
         for _ in 0..n {
-            at_trt.push(u16::try_from(t).map_err(|_| SimError::Layout("TRT overflow".into()))?);
+            at_trt.push(trt(t)?);
             t += at_us + GAP_US;
         }
+        let mdt_trt = if self.mdt_after_ats {
+            let m = trt(t)?;
+            t += mdt_us + GAP_US;
+            m
+        } else {
+            MDT_TRT_US
+        };
         if let Some(o) = &self.at_trt_override {
             for (t, v) in at_trt.iter_mut().zip(o) {
                 *t = *v;
@@ -231,14 +251,22 @@ impl StaticRing {
         };
         let variant = chip.variant;
         let mut m_words: Vec<(u16, Vec<u16>)> = vec![(0, vec![FIRST_HEADER, FIRST_HEADER])];
-        let mdt_at = FIRST_HEADER;
-        let mut p = mdt_at + 4 + 1 + mdt_len;
+        // The list in the order of the telegrams (410B §4.2): the MDT's transmit header (4
+        // words, its container's control word, the data) and the ATs' receive headers (5
+        // words, control word, position, the data if stored), each pointing to the next.
+        let at_len = if at_stored { self.at_words } else { 0 };
+        let ats_len = n16.saturating_mul(7 + at_len);
+        let (mdt_at, ats_at) = if self.mdt_after_ats {
+            (FIRST_HEADER + ats_len, FIRST_HEADER)
+        } else {
+            (FIRST_HEADER, FIRST_HEADER + 4 + 1 + mdt_len)
+        };
         let mdt = TxHeader {
             adr: 255,
             en: TxEnable::Continuous,
-            trt: MDT_TRT_US,
+            trt: mdt_trt,
             tlen: mdt_tlen,
-            pt: p,
+            pt: mdt_at + 4 + 1 + mdt_len,
             ..TxHeader::default()
         };
         let mut w = mdt.to_words(variant).to_vec();
@@ -248,20 +276,30 @@ impl StaticRing {
             w.push(mdt_pattern(slave, i % self.mdt_words.max(1)));
         }
         m_words.push((mdt_at, w));
+        // Slave: the MDT's receive header (5 words, control word, position, its record) and
+        // its AT's transmit header (4 words, control word, the data), in the same order.
+        let slave_mdt_len = 5 + 2 + self.mdt_words;
+        let slave_at_len = 4 + 1 + self.at_words;
+        let (slave_mdt, slave_at) = if self.mdt_after_ats {
+            (FIRST_HEADER + slave_at_len, FIRST_HEADER)
+        } else {
+            (FIRST_HEADER, FIRST_HEADER + slave_mdt_len)
+        };
         let mut plan = RingPlan {
-            mdt_trt_us: MDT_TRT_US,
+            mdt_trt_us: mdt_trt,
             at_trt_us: at_trt.clone(),
             mdt_tlen,
             master_mdt_data: mdt_at + 5,
             mdt_container_len: mdt_len,
             master_at_header: Vec::with_capacity(n),
             master_at_data: Vec::with_capacity(n),
-            slave_mdt_header: FIRST_HEADER,
-            slave_mdt_data: FIRST_HEADER + 7,
-            slave_at_data: FIRST_HEADER + 7 + self.mdt_words + 5,
+            slave_mdt_header: slave_mdt,
+            slave_mdt_data: slave_mdt + 7,
+            slave_at_data: slave_at + 5,
         };
+        let mut p = ats_at;
         for (i, trt) in at_trt.iter().enumerate() {
-            let len = if at_stored { self.at_words } else { 0 };
+            let len = at_len;
             let next = p + 7 + len;
             // 410B §4.2.1 TCHK: each AT is expected in its own window (18H/19H JTRDEL1/2
             // µs around TRT), TRT counted at the master, i.e. after the ring delay.
@@ -282,7 +320,12 @@ impl StaticRing {
             m_words.push((p, w));
             p = next;
         }
-        m_words.push((p, EndMarker::default().to_words().to_vec()));
+        let end = if self.mdt_after_ats {
+            mdt_at + 4 + 1 + mdt_len
+        } else {
+            p
+        };
+        m_words.push((end, EndMarker::default().to_words().to_vec()));
         let rate1 = |repon| reg1(self.bit_rate, repon);
         let common = |repon: bool| {
             vec![
@@ -308,40 +351,48 @@ impl StaticRing {
         hosts.push(Box::new(StaticImageHost { accesses: acc }));
         nodes.push(NodeConfig::new("master", chip));
         for i in 1..=n {
-            let s0 = FIRST_HEADER;
-            let s1 = s0 + 5 + 2 + self.mdt_words;
-            let s2 = s1 + 4 + 1 + self.at_words;
+            let end = FIRST_HEADER + slave_mdt_len + slave_at_len;
+            let after_mdt = if self.mdt_after_ats { end } else { slave_at };
+            let after_at = if self.mdt_after_ats { slave_mdt } else { end };
             let mdt_rx = RxHeader {
                 adr: 255,
                 achk: true,
-                trt: MDT_TRT_US,
+                trt: mdt_trt,
                 tlen: mdt_tlen,
-                pt: s1,
+                pt: after_mdt,
                 ..RxHeader::default()
             };
-            let mut w = mdt_rx.to_words(variant).to_vec();
-            w.extend([ctrl(self.mdt_words, true)?, (i as u16 - 1) * self.mdt_words]);
-            w.extend(std::iter::repeat_n(0, usize::from(self.mdt_words)));
+            let mut mdt_words = mdt_rx.to_words(variant).to_vec();
+            mdt_words.extend([ctrl(self.mdt_words, true)?, (i as u16 - 1) * self.mdt_words]);
+            mdt_words.extend(std::iter::repeat_n(0, usize::from(self.mdt_words)));
             let at = TxHeader {
                 adr: i as u8,
                 en: TxEnable::Continuous,
                 trt: at_trt.get(i - 1).copied().unwrap_or(0),
                 tlen: self.at_words,
-                pt: s2,
+                pt: after_at,
                 ..TxHeader::default()
             };
-            w.extend(at.to_words(variant));
-            w.push(ctrl(self.at_words, true)?);
-            w.extend((0..self.at_words).map(|k| at_pattern(i, k)));
-            w.extend(EndMarker::default().to_words());
+            let mut at_words = at.to_words(variant).to_vec();
+            at_words.push(ctrl(self.at_words, true)?);
+            at_words.extend((0..self.at_words).map(|k| at_pattern(i, k)));
+            // The slave's list in address order, one write (as the telegrams' order).
+            let mut words = if self.mdt_after_ats {
+                at_words.extend(mdt_words);
+                at_words
+            } else {
+                mdt_words.extend(at_words);
+                mdt_words
+            };
+            words.extend(EndMarker::default().to_words());
             let mut acc = vec![
                 Access::Ram {
                     address: 0,
-                    words: vec![s0, s0],
+                    words: vec![FIRST_HEADER, FIRST_HEADER],
                 },
                 Access::Ram {
-                    address: s0,
-                    words: w,
+                    address: FIRST_HEADER,
+                    words,
                 },
             ];
             acc.extend(common(self.repon));

@@ -151,6 +151,69 @@ fn two_hundred_fifty_four_slaves_phase4() {
     check_ring(ring, 3);
 }
 
+// 410B §4.2.1 TRT, §4.2: the ATs before the MDT (MST, AT 1 … AT n, MDT; T1 before T2, the
+// order the master driver plans): every telegram at its time, data and TCYCDEL as in the
+// other order, and on the master's input fibre each cycle in that order.
+#[test]
+fn eight_slaves_with_the_mdt_after_the_ats() {
+    let mut ring = StaticRing::new(8, 250);
+    ring.fibre_m = 200;
+    ring.mdt_after_ats = true;
+    let (_, _, plan) = build(&ring);
+    assert!(
+        plan.at_trt_us.iter().all(|&t| t < plan.mdt_trt_us),
+        "{plan:?}"
+    );
+    check_ring(ring.clone(), 4);
+    let (cfg, hosts, _) = build(&ring);
+    let (_, out) = run(cfg, hosts, us(1000));
+    let kinds: Vec<(String, Option<u8>)> = parse_log(&out.log)
+        .into_iter()
+        .filter(|l| l.seg == 8)
+        .map(|l| (l.kind.to_string(), l.adr))
+        .collect();
+    let mut want = vec![("MST".to_string(), Some(255))];
+    want.extend((1..=8).map(|i| ("AT".to_string(), Some(i))));
+    want.push(("MDT".to_string(), Some(255)));
+    // The telegrams of each cycle, from one MST to the next; the first cycle (the slaves
+    // not yet synchronised) and the last (cut by the run's end) left out.
+    let mut cycles: Vec<Vec<(String, Option<u8>)>> = Vec::new();
+    for t in kinds {
+        if t.0 == "MST" {
+            cycles.push(Vec::new());
+        }
+        if let Some(c) = cycles.last_mut() {
+            c.push(t);
+        }
+    }
+    let steady = cycles.get(1..cycles.len().saturating_sub(1)).unwrap_or(&[]);
+    assert!(steady.len() >= 2, "{} cycles", steady.len());
+    for c in steady {
+        assert_eq!(c, &want);
+    }
+}
+
+#[test]
+fn the_mdt_after_the_ats_gives_the_exact_path_s_chips_and_trace() {
+    let mut ring = compared_ring(6, Delivery::Fast);
+    ring.mdt_after_ats = true;
+    let (states, events) = exact_and_fast_states(&ring, us(1100));
+    assert_eq!(first_difference(&states), None);
+    assert!(events[1] * 2 < events[0], "{events:?}");
+    let mut logs = Vec::new();
+    for delivery in [Delivery::Exact, Delivery::Fast] {
+        ring.delivery = delivery;
+        let (cfg, hosts, _) = build(&ring);
+        let (_, out) = run(cfg, hosts, us(1000));
+        logs.push(out.log);
+    }
+    assert!(parse_log(&logs[0]).len() > 40);
+    assert_eq!(
+        String::from_utf8_lossy(&logs[0]),
+        String::from_utf8_lossy(&logs[1])
+    );
+}
+
 #[test]
 fn fast_path_gives_the_same_trace_as_the_exact_path() {
     // The fast path (no event per repeater, slaves not given other slaves' ATs) against
@@ -354,8 +417,10 @@ proptest::proptest! {
         at_words in 1u16..=4,
         fibre_m in 1u32..=300,
         end_us in 1500u64..=3000,
+        mdt_after_ats: bool,
     ) {
         let mut ring = StaticRing::new(slaves, cycle_us);
+        ring.mdt_after_ats = mdt_after_ats;
         ring.bit_rate = [BitRate::Mbit2, BitRate::Mbit4, BitRate::Mbit8, BitRate::Mbit16][rate];
         ring.mdt_words = mdt_words;
         ring.at_words = at_words;
@@ -373,5 +438,48 @@ fn rings_that_do_not_fit_are_refused_not_panicking() {
         ring.mdt_words = words;
         ring.at_words = words;
         assert!(ring.build().is_err(), "{slaves} {cycle} {words}");
+    }
+}
+
+// 410B §1 (repeaters), §4.2.1 TRT: on 2 km fibres slave 2's AT starts 5 µs after the master
+// has started its MDT, 25 µs before the MDT reaches slave 2, and passes slave 3 ahead of it;
+// slave 3's AT comes after the MDT. Fast path and reference give the same trace, logged on
+// every fibre and on the master's input only (plain repeaters between the slaves).
+#[test]
+fn an_at_after_the_master_s_next_telegram_started_gives_the_exact_trace() {
+    for master_input_only in [false, true] {
+        let mut logs = Vec::new();
+        for delivery in [Delivery::Exact, Delivery::Fast] {
+            let mut ring = StaticRing::new(3, 500);
+            ring.fibre_m = 2000;
+            ring.mdt_words = 1;
+            ring.at_words = 1;
+            ring.mdt_after_ats = true;
+            ring.delivery = delivery;
+            let (_, _, plan) = build(&ring);
+            let mut trts = plan.at_trt_us.clone();
+            trts[1] = plan.mdt_trt_us - 15;
+            trts[2] = plan.mdt_trt_us + 60;
+            ring.at_trt_override = Some(trts);
+            let (mut cfg, hosts, _) = build(&ring);
+            if master_input_only {
+                cfg.traces.log_segment = Some(SegmentId(3));
+            }
+            let (sim, out) = run(cfg, hosts, us(3000));
+            assert_eq!(sim.stats().out_of_order, 0);
+            logs.push(out.log);
+        }
+        assert!(
+            parse_log(&logs[0])
+                .iter()
+                .filter(|l| l.kind == "AT")
+                .count()
+                >= 3 * 4
+        );
+        assert_eq!(
+            String::from_utf8_lossy(&logs[0]),
+            String::from_utf8_lossy(&logs[1]),
+            "logged on the master's input only: {master_input_only}"
+        );
     }
 }

@@ -230,6 +230,22 @@ fn an_intact_ring_runs_the_same_with_slaves_ahead() {
     assert!(quiet.ats_sent_on >= 20 * 3, "{quiet:?}");
 }
 
+// 410B §4.2.1 TRT: with the ATs before the MDT (MST, AT 1 … AT n, MDT, the order the
+// master driver plans) each slave runs, after the MST, past its own AT up to the MDT, and the
+// ATs are sent on right after the MST's pass (`early_route`: for ATs a slave's list puts
+// before the MDT's receive header); the run is the same as without running ahead.
+#[test]
+fn the_mdt_after_the_ats_runs_the_same_with_slaves_ahead() {
+    let mut ring = six_slaves();
+    ring.mdt_after_ats = true;
+    let (logged, quiet) = same_run(&ring, &[], us(1600), "6 slaves, MDT after the ATs");
+    // Six cycles and a bit: from the first cycle on, every slave's AT each cycle.
+    assert!(quiet.runs_past_output >= 6 * 2 * 5, "{quiet:?}");
+    assert!(quiet.ats_sent_on >= 6 * 5, "{quiet:?}");
+    assert!(quiet.events * 2 <= logged.events, "{logged:?} {quiet:?}");
+    assert_eq!(logged.ats_sent_on, 0);
+}
+
 #[test]
 fn faults_give_the_same_run_with_slaves_ahead() {
     let faults = [
@@ -361,19 +377,23 @@ pub(super) fn any_ring_and_faults()
         1u32..=200,
         proptest::collection::vec((0u8..6, 0usize..8, 200u64..1300, 1u64..400), 0..=3),
         proptest::option::of(proptest::collection::vec(5u16..150, 6)),
+        proptest::bool::ANY,
     )
-        .prop_map(|(slaves, cycle_us, words, fibre_m, faults, trts)| {
-            let mut ring = StaticRing::new(slaves, cycle_us);
-            ring.mdt_words = words;
-            ring.at_words = words;
-            ring.fibre_m = fibre_m;
-            ring.at_trt_override = trts;
-            let faults = faults
-                .into_iter()
-                .map(|(kind, k, at, len)| any_fault(kind, k, at, len, slaves + 1))
-                .collect();
-            (ring, faults)
-        })
+        .prop_map(
+            |(slaves, cycle_us, words, fibre_m, faults, trts, mdt_after_ats)| {
+                let mut ring = StaticRing::new(slaves, cycle_us);
+                ring.mdt_after_ats = mdt_after_ats;
+                ring.mdt_words = words;
+                ring.at_words = words;
+                ring.fibre_m = fibre_m;
+                ring.at_trt_override = trts;
+                let faults = faults
+                    .into_iter()
+                    .map(|(kind, k, at, len)| any_fault(kind, k, at, len, slaves + 1))
+                    .collect();
+                (ring, faults)
+            },
+        )
         .prop_filter("the ring builds", |(ring, _)| ring.build().is_ok())
 }
 
