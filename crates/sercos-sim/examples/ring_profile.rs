@@ -1,7 +1,9 @@
 //! Runs one `sercon bench` scenario for a number of cycles (for profilers such as
 //! `valgrind --tool=callgrind`): `ring_profile <scenario> <cycles> [events|observable]`.
 //! `ring-8x<k>` is `ring-8` with `k` slaves (1 to 254): the cost per cycle at a few `k`
-//! splits into a fixed part and a part per slave (docs/performance.md, session 10).
+//! splits into a fixed part and a part per slave (docs/performance.md, session 10). A name
+//! ending in `-at-first` lays the scenario's telegrams out with the MDT after the ATs
+//! (`StaticRing::mdt_after_ats`).
 
 use sercos_sim::scenario;
 use sercos_sim::sim::Lookahead;
@@ -10,12 +12,16 @@ use sercos_wire::time::Duration;
 fn main() {
     let mut args = std::env::args().skip(1);
     let name = args.next().unwrap_or_else(|| "ring-8".into());
+    let (base, at_first) = match name.strip_suffix("-at-first") {
+        Some(b) => (b.to_string(), true),
+        None => (name.clone(), false),
+    };
     let cycles: u64 = args.next().and_then(|c| c.parse().ok()).unwrap_or(100);
     let lookahead = match args.next().as_deref() {
         Some("observable") => Lookahead::Observable,
         _ => Lookahead::Events,
     };
-    let resized = name
+    let resized = base
         .strip_prefix("ring-8x")
         .and_then(|k| k.parse::<usize>().ok())
         .filter(|k| (1..=254).contains(k))
@@ -24,10 +30,12 @@ fn main() {
             s.ring.slaves = k;
             s
         });
-    let Some(s) = resized.or_else(|| scenario::all().into_iter().find(|s| s.name == name)) else {
+    let Some(mut s) = resized.or_else(|| scenario::all().into_iter().find(|s| s.name == base))
+    else {
         eprintln!("no scenario {name}");
         std::process::exit(2);
     };
+    s.ring.mdt_after_ats = at_first;
     let mut sim = match scenario::prepare(&s) {
         Ok(sim) => sim,
         Err(e) => {
