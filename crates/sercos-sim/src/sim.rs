@@ -854,21 +854,12 @@ impl Simulation {
             if deliver {
                 self.deliver(next, seg.clone(), origin, repeating);
             }
-            let Some(node) = self.nodes.get_mut(next) else {
-                return;
-            };
             // The segment's bit time is the same at every hop.
             let lat =
                 *lat.get_or_insert_with(|| seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS));
-            let l_out = node.clock.to_local(seg.start).saturating_add(lat);
-            seg.start = node.clock.to_global(l_out);
-            seg.distorted = false;
-            let Some(mut floor) = self.out_floors.get(next) else {
+            if !self.repeat_out(next, &mut seg, lat) {
                 return;
-            };
-            node.put_out(&mut floor, &mut seg, false);
-            self.out_floors.set(next, floor);
-            self.floor_written(next);
+            }
             cur = next;
         }
     }
@@ -908,20 +899,32 @@ impl Simulation {
                 return;
             }
             self.deliver(next, seg.clone(), 0, true);
-            let Some(node) = self.nodes.get_mut(next) else {
+            if !self.repeat_out(next, &mut seg, lat) {
                 return;
-            };
-            let l_out = node.clock.to_local(seg.start).saturating_add(lat);
-            seg.start = node.clock.to_global(l_out);
-            seg.distorted = false;
-            let Some(mut floor) = self.out_floors.get(next) else {
-                return;
-            };
-            node.put_out(&mut floor, &mut seg, false);
-            self.out_floors.set(next, floor);
-            self.floor_written(next);
+            }
             cur = next;
         }
+    }
+
+    /// Repeater `next` puts out its copy of `seg` (410B §1: the slaves regenerate and repeat
+    /// their received data), `lat` after it came in by the node's clock, not before the end
+    /// of what it put out last (its output floor, raised to the copy's end). `false`: no
+    /// such node.
+    #[inline(always)]
+    fn repeat_out(&mut self, next: usize, seg: &mut LineSegment, lat: Duration) -> bool {
+        let Some(node) = self.nodes.get_mut(next) else {
+            return false;
+        };
+        let l_out = node.clock.to_local(seg.start).saturating_add(lat);
+        seg.start = node.clock.to_global(l_out);
+        seg.distorted = false;
+        let Some(mut floor) = self.out_floors.get(next) else {
+            return false;
+        };
+        node.put_out(&mut floor, seg, false);
+        self.out_floors.set(next, floor);
+        self.floor_written(next);
+        true
     }
 
     /// Whether a segment entering fibre `k` is taken as its bits and their filler: the

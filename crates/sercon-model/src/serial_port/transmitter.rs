@@ -393,15 +393,7 @@ impl Transmitter {
                         self.resume_at = None;
                         self.silent_resume = false;
                         let invert = tail_inv[usize::from(self.level_at(t))];
-                        #[cfg(debug_assertions)]
-                        let expected = self.followed_general(&tail, invert);
-                        self.follow(tail, invert);
-                        #[cfg(debug_assertions)]
-                        debug_assert_eq!(
-                            expected,
-                            self.followed_digest(),
-                            "a merged copy differs from the general path's"
-                        );
+                        self.follow_checked(tail, invert, "a merged copy");
                         continue;
                     }
                     // Not followed as one (or a resumed rest before it): taken copy by copy.
@@ -428,15 +420,7 @@ impl Transmitter {
                         } else {
                             (seg, invert)
                         };
-                        #[cfg(debug_assertions)]
-                        let expected = self.followed_general(&seg, invert);
-                        self.follow(seg, invert);
-                        #[cfg(debug_assertions)]
-                        debug_assert_eq!(
-                            expected,
-                            self.followed_digest(),
-                            "a followed copy differs from the general path's"
-                        );
+                        self.follow_checked(seg, invert, "a followed copy");
                     } else if invert {
                         self.bg_active = Some(seg.clone());
                         self.emit(seg.inverted());
@@ -554,6 +538,23 @@ impl Transmitter {
             seg = q.seg;
         }
         (seg, invert)
+    }
+
+    /// [`Transmitter::follow`]; debug builds check the result against the general path's
+    /// follow of the same copy (`what` names it in the message).
+    #[inline(always)]
+    fn follow_checked(&mut self, seg: LineSegment, invert: bool, what: &str) {
+        #[cfg(debug_assertions)]
+        let expected = self.followed_general(&seg, invert);
+        self.follow(seg, invert);
+        #[cfg(debug_assertions)]
+        debug_assert_eq!(
+            expected,
+            self.followed_digest(),
+            "{what} differs from the general path's"
+        );
+        #[cfg(not(debug_assertions))]
+        let _ = what;
     }
 
     /// Follows a copy the user carries that starts when no own telegram shadows it: it
