@@ -464,8 +464,14 @@ impl Chip {
             // The processor's own writes may rewrite its lists: nothing is promised.
             None if !self.layout_proof() => return Some(internal),
             None => {
+                self.tp.walk_held.set(false);
                 let tick = self.output_bound_tick();
-                self.out_bound.set(Some(tick));
+                // A held block walk (its start, while the processor may still rewrite the
+                // list) is not remembered: once the block starts, the walk is made and the
+                // bound may lie later (spec-notes "Held block walks").
+                if !self.tp.walk_held.get() {
+                    self.out_bound.set(Some(tick));
+                }
                 tick
             }
         };

@@ -444,6 +444,24 @@ proptest! {
     }
 }
 
+// 410B §4.2.1 (a block's headers are walked from COMPT0/1, TRT counts from its start): a
+// receive telegram still arriving when the next block is due may yet write data, VAL and
+// NERR, so that block's walk is held at its start; a kept bound was that held start after
+// the telegram had ended, where a fresh walk finds the first transmit telegram later (found by
+// `arbitrary_ram_and_frames_keep_the_promise`, spec-notes "Held block walks"). Debug
+// builds check every kept bound against a fresh walk.
+#[test]
+fn a_telegram_outliving_its_block_does_not_leave_its_held_bound_kept() {
+    let mut ram = vec![0u16; 64];
+    ram[0] = 41530;
+    let mut bytes = vec![0u8; 26];
+    bytes[12] = 175;
+    bytes[13] = 124;
+    let chip = common::arbitrary_chip(&ram, 55241, true, None);
+    arbitrary_run(chip.clone(), vec![(284, bytes.clone())], false).expect("plain advances");
+    arbitrary_run(chip, vec![(284, bytes)], true).expect("kept bounds");
+}
+
 /// Runs `chip` µs by µs to 400 µs with `frames` (start in µs, ADR and data) handed over a µs
 /// ahead of their start (as a ring delivers them, 816 §2.3.1: 16 Mbit/s), checking every
 /// released segment against the promise asked before its advance; with `keep`, every

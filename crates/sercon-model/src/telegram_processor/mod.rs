@@ -177,6 +177,11 @@ pub(crate) struct TelegramProcessor {
     /// receive data or a service container laid over headers ahead) since this was last
     /// cleared (`Chip::advance_before_output`).
     pub(crate) walk_overwritten: std::cell::Cell<bool>,
+    /// A block's walk was held at its start (`output_bound::next_block_bound`: what the
+    /// processor still writes before it may change the list) since this was last cleared
+    /// (`Chip::next_output_bound`): that bound is the block's start, not its first transmit
+    /// telegram, and is found afresh, never remembered (spec-notes "Held block walks").
+    pub(crate) walk_held: std::cell::Cell<bool>,
     /// Programming errors and blocks ended early so far (wrapping): a kept output bound does
     /// not outlive one (`Chip::advance_before_output`).
     pub(crate) irregular: u32,

@@ -80,9 +80,11 @@ fn mst_block_bound(chip: &Chip, end_tick: u64, fcs_ok: bool, bytes: &[u8]) -> Op
 /// The TRT tick of the first enabled transmit header of block `block` starting at `tick`
 /// (410B §4.2.1: COMPT0/1 in RAM words 0/1 point to its first header; TRT counts from the
 /// block's start; the headers are walked in list order), when nothing the processor does
-/// before `tick` can change what that walk reads; `tick` itself otherwise.
+/// before `tick` can change what that walk reads; `tick` itself otherwise (a held walk:
+/// [`TelegramProcessor::walk_held`](super::TelegramProcessor::walk_held)).
 fn next_block_bound(chip: &Chip, tick: u64, block: u8) -> Option<u64> {
     let Some(guard) = writes_before(chip, tick) else {
+        chip.tp.walk_held.set(true);
         return Some(tick);
     };
     let compt = walk::word(&chip.ram, u32::from(block & 1)).unwrap_or(0);
@@ -108,7 +110,12 @@ fn next_block_bound(chip: &Chip, tick: u64, block: u8) -> Option<u64> {
         }
         clear
     });
-    if clear { found.tick } else { Some(tick) }
+    if clear {
+        found.tick
+    } else {
+        chip.tp.walk_held.set(true);
+        Some(tick)
+    }
 }
 
 /// RAM words the processor may still write before a block starts at `tick` when the
