@@ -189,6 +189,13 @@ impl StaticRing {
         // The first telegram after the MST starts MDT_TRT_US after its end; each next one a
         // gap after the one before (410B §4.2.1 TRT).
         let trt = |t: u64| u16::try_from(t).map_err(|_| SimError::Layout("TRT overflow".into()));
+        // The ring delay: every fibre and every slave's repeater latency (spec-notes).
+        let ring = (Duration::from_nanos(5)
+            .saturating_mul(u64::from(self.fibre_m) * (n as u64 + 1))
+            + bt.saturating_mul(2 * n as u64))
+        .as_picos();
+        let ring_us = ring.div_ceil(1_000_000);
+        let ring_floor_us = u16::try_from(ring / 1_000_000).unwrap_or(u16::MAX);
         let mut t = u64::from(MDT_TRT_US);
         if !self.mdt_after_ats {
             t += mdt_us + GAP_US;
@@ -199,6 +206,11 @@ impl StaticRing {
             t += at_us + GAP_US;
         }
         let mdt_trt = if self.mdt_after_ats {
+            // The master's list walks the AT headers before the MDT's (410B §4.2: in list
+            // order), each AT arriving a ring delay after its TRT at the slave: the MDT's
+            // TRT counts from the master's MST end, after the last AT has come round (else
+            // its header is reached after its TRT, 17H PROGERR_FL, every cycle).
+            t += ring_us;
             let m = trt(t)?;
             t += mdt_us + GAP_US;
             m
@@ -210,18 +222,6 @@ impl StaticRing {
                 *t = *v;
             }
         }
-        let ring_us = (Duration::from_nanos(5)
-            .saturating_mul(u64::from(self.fibre_m) * (n as u64 + 1))
-            + bt.saturating_mul(2 * n as u64))
-        .as_picos()
-        .div_ceil(1_000_000);
-        let ring_floor_us = u16::try_from(
-            (Duration::from_nanos(5).saturating_mul(u64::from(self.fibre_m) * (n as u64 + 1))
-                + bt.saturating_mul(2 * n as u64))
-            .as_picos()
-                / 1_000_000,
-        )
-        .unwrap_or(u16::MAX);
         let mst_us = us(worst_frame_bits(2));
         if mst_us + t + ring_us > u64::from(self.cycle_us) {
             return Err(SimError::Layout(format!(

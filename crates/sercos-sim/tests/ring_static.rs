@@ -97,8 +97,11 @@ fn check_ring(ring: StaticRing, cycles: u64) {
             assert_eq!(words(m, d, ring.at_words), want, "AT {i} data");
         }
     }
+    // 410B §4.1 17H PROGERR_FL: no header reached after its TRT, no list error.
+    assert_eq!(m.read_register(0x17), 0, "master PROGERR_FL");
     for i in 1..=n {
         let s = sim.chip_mut(i).expect("slave");
+        assert_eq!(s.read_register(0x17), 0, "slave {i} PROGERR_FL");
         let h = rx_header(s, plan.slave_mdt_header);
         assert!(h.val && !h.rerr && h.nerr == 0, "slave {i} MDT: {h:?}");
         let first = (i as u16 - 1) * ring.mdt_words;
@@ -191,6 +194,29 @@ fn eight_slaves_with_the_mdt_after_the_ats() {
     for c in steady {
         assert_eq!(c, &want);
     }
+}
+
+// 410B §4.2 (the master walks its list in order: the AT headers, then the MDT's) and
+// §4.2.1 TRT: on a long ring the last AT reaches the master a ring delay after its TRT at
+// the slave, so the MDT's TRT lies after that; the MDT starts at its time and no header is
+// reached late (before, on rings of about 90 slaves and more, the master's MDT header was reached after
+// its TRT every cycle: 17H PROGERR_FL, the MDT late).
+#[test]
+fn a_long_ring_with_the_mdt_after_the_ats_sends_its_mdt_at_its_time() {
+    let mut ring = StaticRing::new(128, 4000);
+    // 410B §4.2.2: at most 1023 words in the MDT's container.
+    ring.mdt_words = 4;
+    ring.mdt_after_ats = true;
+    let (_, _, plan) = build(&ring);
+    // Ring delay: 129 fibres of 10 m and 128 repeaters of two bit times (≈ 22.5 µs).
+    let ring_ps = Duration::from_nanos(50).as_picos() * 129
+        + ring.bit_rate.bit_time().saturating_mul(256).as_picos();
+    let last_at = plan.at_trt_us.iter().copied().max().unwrap_or(0);
+    assert!(
+        u64::from(plan.mdt_trt_us - last_at) * 1_000_000 > ring_ps,
+        "{plan:?}"
+    );
+    check_ring(ring, 3);
 }
 
 #[test]
