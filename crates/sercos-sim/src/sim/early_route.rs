@@ -154,7 +154,10 @@ impl Simulation {
             };
             // Its telegram is ahead of the simulation, and starts after the one before has
             // passed this repeater (fibre delay plus the repeater latency of its bits).
-            if start <= self.now || after.is_some_and(|a| start < a) || next_master.is_none() {
+            if start <= self.now
+                || after.is_some_and(|a| start < a)
+                || next_master.is_none_or(|m| start >= m)
+            {
                 return false;
             }
             let hop = self.seg_delays.get(j).copied().unwrap_or(Duration::ZERO);
