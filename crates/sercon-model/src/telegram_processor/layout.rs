@@ -197,40 +197,40 @@ fn prove_lists(chip: &Chip, blocks: u8) -> (bool, RamWords, bool) {
 /// on a list the walks do not see: nothing is promised then.
 fn held_as_in_ram(chip: &Chip, headers: &RamWords) -> bool {
     let variant = chip.cfg.variant;
-    let same = |at: u16, kind: HeaderKind, pt: Option<u16>, buffering| {
+    // Compared word by word (asked with every proof: no header decoded). Word 0: marker bits
+    // 15-14 (00 receive, 01 transmit), DMA 8, DBUF 9; word 3: PT (410B §4.2.1).
+    let same = |at: u16, marker: u16, pt: Option<u16>, dma: bool, dbuf: bool| {
+        let word = |i: u32| walk::word(&chip.ram, u32::from(at) + i);
+        let Some(w0) = word(0) else { return false };
         headers.any(u32::from(at), 1)
-            && match walk::header_at(&chip.ram, variant, at) {
-                Ok(Header::Receive(h)) => {
-                    kind == HeaderKind::Receive
-                        && pt.is_none_or(|p| p == h.pt)
-                        && h.buffering() == buffering
-                }
-                Ok(Header::Transmit(h)) => {
-                    kind == HeaderKind::Transmit
-                        && pt.is_none_or(|p| p == h.pt)
-                        && h.buffering() == buffering
-                }
-                _ => false,
-            }
+            && w0 & 0xC000 == marker
+            && (w0 & (1 << 8) != 0) == dma
+            && (w0 & (1 << 9) != 0) == dbuf
+            && pt.is_none_or(|p| word(3).is_some_and(|w3| w3 & variant.pointer_mask() == p))
     };
     if let Some(super::RxNow {
         role: super::RxRole::Telegram { at, hdr },
         ..
     }) = &chip.tp.rx_now
-        && !same(*at, HeaderKind::Receive, None, hdr.buffering())
+        && !same(*at, RX_MARKER, None, hdr.dma, hdr.dbuf)
     {
         return false;
     }
     match chip.tp.block.as_ref().and_then(|b| b.cur) {
         Some(super::Cur::Rx { at, hdr, .. }) => {
-            same(at, HeaderKind::Receive, Some(hdr.pt), hdr.buffering())
+            same(at, RX_MARKER, Some(hdr.pt), hdr.dma, hdr.dbuf)
         }
         Some(super::Cur::Tx { at, hdr, .. }) => {
-            same(at, HeaderKind::Transmit, Some(hdr.pt), hdr.buffering())
+            same(at, TX_MARKER, Some(hdr.pt), hdr.dma, hdr.dbuf)
         }
         _ => true,
     }
 }
+
+/// Marker bits 15-14 of a receive header's word 0 (ERRATA "telegram header marker bits": 00).
+const RX_MARKER: u16 = 0x0000;
+/// Marker bits 15-14 of a transmit header's word 0 (01).
+const TX_MARKER: u16 = 0x4000;
 
 /// Walks the list from `first` as the processor would (410B §4.2.1: PT to PT, the end
 /// marker or a header reached twice ending it, a bounded number of steps), adding what it

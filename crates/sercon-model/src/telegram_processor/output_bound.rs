@@ -190,11 +190,19 @@ pub(crate) fn ram_written(chip: &Chip, from: u32, len: usize) {
     // them (receive data laid over a header, 410B §4.2.2: what refused it) may take the
     // conflict away, and a fresh proof would then hold: found again (a proof that holds
     // sees only header status words written over read words, which change no list).
-    if let Some((false, _)) = chip.layout.get()
-        && chip
-            .layout_read
-            .borrow()
-            .any(from, u32::try_from(len).unwrap_or(u32::MAX))
+    if let Some((false, _)) = chip.layout.get() {
+        refusal_written(chip, from, len);
+    }
+}
+
+/// [`ram_written`] with the layout proof refused: dropped if the words written were read.
+#[cold]
+#[inline(never)]
+fn refusal_written(chip: &Chip, from: u32, len: usize) {
+    if chip
+        .layout_read
+        .borrow()
+        .any(from, u32::try_from(len).unwrap_or(u32::MAX))
     {
         chip.layout.set(None);
     }
