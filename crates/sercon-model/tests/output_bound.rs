@@ -445,7 +445,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(std::env::var("HYP_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(48)))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("OUTPUT_BOUND_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(48)))]
 
     // 410B §4.2.1 (headers walked from COMPT0/1 along PT), §4.1 0AH PHAS, 0CH.2-3 COMBLK0/1:
     // arbitrary RAM and frames as above, and a host that writes headers, containers,
