@@ -524,26 +524,43 @@ impl Chip {
         let memo = self.layout.get();
         if let Some((proof, 0b11)) = memo {
             // Both blocks' lists covered: whichever may run.
+            debug_assert_eq!(proof, self.fresh_layout_proof(0b11), "kept layout proof");
             return proof;
         }
         let blocks = crate::telegram_processor::possible_blocks(self);
         if let Some((proof, proved)) = memo
             && proved & blocks == blocks
         {
+            debug_assert_eq!(proof, self.fresh_layout_proof(proved), "kept layout proof");
             return proof;
         }
         // Both lists if they allow it (then no block the registers choose later needs a
         // proof of its own), else those that may run now.
-        let (both, read) = crate::telegram_processor::prove_layout(self, 0b11);
-        let (proof, read, proved) = if both {
-            (true, read, 0b11)
+        let both = crate::telegram_processor::prove_layout(self, 0b11);
+        let (proof, proved) = if both.holds {
+            (both, 0b11)
         } else {
-            let (proof, read) = crate::telegram_processor::prove_layout(self, blocks);
-            (proof, read, blocks)
+            (
+                crate::telegram_processor::prove_layout(self, blocks),
+                blocks,
+            )
         };
-        self.layout.set(Some((proof, proved)));
-        *self.layout_read.borrow_mut() = read;
-        proof
+        if !proof.lasting {
+            // Refused while a header the processor holds is not the RAM's: found afresh
+            // until it is (spec-notes "The layout proof and the headers the processor
+            // holds").
+            self.layout.set(None);
+            return false;
+        }
+        self.layout.set(Some((proof.holds, proved)));
+        *self.layout_read.borrow_mut() = proof.read;
+        proof.holds
+    }
+
+    /// The layout proof for the lists of `blocks` made afresh (debug builds check a kept
+    /// one against it).
+    fn fresh_layout_proof(&self, blocks: u8) -> bool {
+        crate::telegram_processor::prove_layout(self, blocks).holds
     }
 
     /// The telegram-processor part of [`Chip::next_output_bound`]: the MCLK tick of the

@@ -444,6 +444,35 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("OUTPUT_BOUND_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(48)))]
+
+    // 410B §4.2.1 (headers walked from COMPT0/1 along PT), §4.1 0AH PHAS, 0CH.2-3 COMBLK0/1:
+    // arbitrary RAM and frames as above, and a host that writes headers, containers,
+    // COMPT0/1, the phases and the block selection at any µs, a block running or not: the
+    // promise asked after each write holds for every segment released, and every advance
+    // before the bound (`Chip::advance_before_output`) leaves the chip a plain advance
+    // leaves (debug builds check every kept bound and layout proof against fresh ones).
+    #[test]
+    fn host_writes_between_steps_keep_the_promise(
+        ram in proptest::collection::vec(any::<u16>(), 64),
+        fill in any::<u16>(),
+        master in any::<bool>(),
+        frames in proptest::collection::vec(
+            (0u64..300, proptest::collection::vec(any::<u8>(), 0..40)),
+            0..12,
+        ),
+        writes in proptest::collection::vec(
+            (0u64..300, 0u8..8, any::<u16>(), any::<u16>()),
+            0..16,
+        ),
+    ) {
+        let chip = common::arbitrary_chip(&ram, fill, master, None);
+        arbitrary_run_with_writes(chip.clone(), frames.clone(), writes.clone(), false)?;
+        arbitrary_run_with_writes(chip, frames, writes, true)?;
+    }
+}
+
 // 410B §4.2.1 (a block's headers are walked from COMPT0/1, TRT counts from its start): a
 // receive telegram still arriving when the next block is due may yet write data, VAL and
 // NERR, so that block's walk is held at its start; a kept bound was that held start after
@@ -467,14 +496,52 @@ fn a_telegram_outliving_its_block_does_not_leave_its_held_bound_kept() {
 /// released segment against the promise asked before its advance; with `keep`, every
 /// advance that stops before the bound is `Chip::advance_before_output`, checked against a
 /// plain advance of a copy.
-fn arbitrary_run(
+fn arbitrary_run(chip: Chip, frames: Vec<(u64, Vec<u8>)>, keep: bool) -> Result<(), TestCaseError> {
+    arbitrary_run_with_writes(chip, frames, Vec::new(), keep)
+}
+
+/// A host access between the steps of [`arbitrary_run_with_writes`]: at µs `t`, what `kind`
+/// (0–7) says, with `addr` and `value`.
+type HostWrite = (u64, u8, u16, u16);
+
+/// The control word 0CH [`common::arbitrary_chip`] wrote (410B §4.1 0CH.0-1 MSTEN,
+/// MSTMASTER; 0CH.10 CYCSTART).
+fn ctrl0c(master: bool) -> u16 {
+    if master {
+        common::CTRL0C_MASTER | common::CTRL0C_CYCSTART
+    } else {
+        1
+    }
+}
+
+/// Applies one [`HostWrite`] to `chip`, a `master` or a slave: kinds 0–4 a RAM word among the
+/// first 128 (the headers, containers and pointers of an arbitrary RAM); 5 PHAS0/PHAS1
+/// (410B §4.1 0AH); 6 the block selection bits 0CH.2-3 COMBLK0/1 (the rest as the chip was
+/// started); 7 COMPT0/1 (410B §4.2 RAM words 0/1) to a word among the first 128.
+fn host_write(chip: &mut Chip, master: bool, (_, kind, addr, value): HostWrite) {
+    match kind {
+        0..=4 => chip.write_ram(addr % 128, value),
+        5 => chip.write(Register::Phas, value),
+        6 => chip.write(Register::Ctrl0C, ctrl0c(master) | (value & 0b1100)),
+        _ => chip.write_ram(addr & 1, value % 128),
+    }
+}
+
+/// [`arbitrary_run`] with host writes (`writes`, at their µs, after the frames handed over
+/// at that µs and before the promise is asked): the promise asked after a write holds too.
+fn arbitrary_run_with_writes(
     mut chip: Chip,
     mut frames: Vec<(u64, Vec<u8>)>,
+    mut writes: Vec<HostWrite>,
     keep: bool,
 ) -> Result<(), TestCaseError> {
     frames.sort_by_key(|f| f.0);
+    writes.sort_by_key(|w| w.0);
+    // 410B §4.1 0CH.1 MSTMASTER, as `common::arbitrary_chip` set it.
+    let master = chip.read(Register::Ctrl0C) & 0b10 != 0;
     let mut buf = Vec::new();
     let mut next = frames.into_iter().peekable();
+    let mut next_write = writes.into_iter().peekable();
     for t in 1..=400u64 {
         let now = Instant::ZERO + Duration::from_micros(t);
         while let Some((start, bytes)) = next.next_if(|f| f.0 <= t) {
@@ -482,6 +549,9 @@ fn arbitrary_run(
             if let Some(seg) = common::try_hinted_frame(start, &bytes) {
                 chip.line_input(seg);
             }
+        }
+        while let Some(w) = next_write.next_if(|w| w.0 <= t) {
+            host_write(&mut chip, master, w);
         }
         let p = promise(&chip);
         if keep && chip.next_output_bound().is_some_and(|b| b > now) {
@@ -641,4 +711,119 @@ fn a_host_write_to_a_header_can_take_the_layout_proof_a_data_write_keeps() {
     );
     m.write_ram_words(50, &at2_header(true).to_words(v));
     assert_eq!(m.next_output_bound(), bound, "AT 2's PT back");
+}
+
+/// Advances `m` from promise to promise (a simulation sleeping on it) until it sends a
+/// telegram of its own or 300 µs after `t0`, checking that nothing starts before the promise
+/// asked before each advance; the starts of its own telegrams.
+fn sleep_on_promises(m: &mut Chip, t0: Instant) -> Vec<Instant> {
+    let mut buf = Vec::new();
+    let mut own = Vec::new();
+    while own.is_empty() && m.now() < t0 + Duration::from_micros(300) {
+        let Some(p) = promise(m) else { break };
+        m.advance_to(p);
+        m.take_line_output(&mut buf);
+        for seg in buf.drain(..) {
+            assert!(
+                seg.start >= p,
+                "a segment at {:?} before the promise {p:?}",
+                seg.start
+            );
+            if let LineSignal::Bits(_) = seg.signal {
+                own.push(seg.start);
+            }
+        }
+    }
+    own
+}
+
+/// ERRATA "telegram header marker bits": 10 is no structure (the processor stops there,
+/// 410B §4.1 17H PROGERR_FL bit 1).
+const NO_HEADER: u16 = 0x8000;
+
+// 410B §4.2.1/§4.2.2, ERRATA "telegram header marker bits": AT 2's PT leads to a word that is
+// no header yet (marker bits 10) and AT 1's container lies over it; AT 1's data make it the
+// enabled transmit header. The layout proof reads the word that decides whether a header is
+// there: the data written over it can rewrite the list, so no promise lies past the
+// third telegram (without reading it the proof held and the master promised its next cycle).
+#[test]
+fn data_over_a_word_that_is_no_header_yet_take_the_layout_proof() {
+    let (mut m, t0) = master_with_ats_ahead(false);
+    m.write_ram(37, NO_HEADER);
+    let own = sleep_on_promises(&mut m, t0);
+    assert!(
+        own.first()
+            .is_some_and(|s| *s < t0 + Duration::from_micros(250)),
+        "{own:?} after the MST at {t0:?}"
+    );
+}
+
+// 410B §4.2.1, the same list with AT 2's PT leading to a word that is no header (marker bits
+// 10, at 80): the proof holds (AT 1's container lies over the header at 37, on no list).
+// A host write that makes a header of that word (EN = 0, PT → 37) writes a word the proof
+// read: the proof kept from before is dropped, and AT 1's data, which enable the header at
+// 37 now on the list, take it (without reading that word the kept proof promised the next
+// cycle and the third telegram came before it).
+#[test]
+fn a_host_write_that_makes_a_header_of_a_word_drops_the_layout_proof() {
+    let v = Variant::Sercon816;
+    let (mut m, t0) = master_with_ats_ahead(false);
+    m.write_ram_words(
+        50,
+        &RxHeader {
+            pt: 80,
+            ..at2_header(false)
+        }
+        .to_words(v),
+    );
+    m.write_ram(80, NO_HEADER);
+    // At AT 1's start (the line's first light after the MDT is an event of its own).
+    m.advance_to(t0 + Duration::from_micros(15));
+    // The proof is made (and kept) with no header at 80.
+    assert!(
+        m.next_output_bound() > m.next_internal_event_at(),
+        "{:?} {:?}",
+        m.next_output_bound(),
+        m.next_internal_event_at()
+    );
+    let header = TxHeader {
+        adr: 4,
+        en: TxEnable::Off,
+        trt: 100,
+        tlen: 1,
+        pt: 37,
+        ..TxHeader::default()
+    };
+    m.write_ram_words(84, &[control(1), 0x9ABC]);
+    m.write_ram_words(80, &header.to_words(v));
+    assert_eq!(m.next_output_bound(), m.next_internal_event_at());
+    let own = sleep_on_promises(&mut m, t0);
+    assert!(
+        own.first()
+            .is_some_and(|s| *s < t0 + Duration::from_micros(250)),
+        "{own:?} after the MST at {t0:?}"
+    );
+}
+
+// 410B §4.2.1 PT, 816 §2.10.1.2 (the next header is read into NTH at the start of a telegram;
+// its words are not read again): while AT 1 is being received the processor holds AT 2's
+// header with PT → 37, the header AT 1's data enable. A host that then relinks AT 2's PT in
+// the RAM to the end marker changes the list in the RAM, not the one the processor walks
+// this cycle: the proof over the RAM's lists would hold (no list reaches 37), so the bound
+// must not be promised while the header the processor holds differs from the RAM's.
+#[test]
+fn a_host_relinking_the_header_the_processor_holds_takes_the_layout_proof() {
+    let v = Variant::Sercon816;
+    let (mut m, t0) = master_with_ats_ahead(false);
+    // Inside AT 1 (it starts 15 µs after the MST): AT 2's header is the current one.
+    m.advance_to(t0 + Duration::from_micros(17));
+    m.write_ram_words(50, &at2_header(true).to_words(v));
+    assert_eq!(m.next_output_bound(), m.next_internal_event_at());
+    let own = sleep_on_promises(&mut m, t0);
+    // The processor went on from AT 2 to 37 (its header as read): the third telegram.
+    assert!(
+        own.first()
+            .is_some_and(|s| *s < t0 + Duration::from_micros(250)),
+        "{own:?} after the MST at {t0:?}"
+    );
 }

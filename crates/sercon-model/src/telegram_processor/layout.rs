@@ -128,10 +128,31 @@ pub(crate) fn possible_blocks(chip: &Chip) -> u8 {
     blocks
 }
 
+/// What [`prove`] found.
+pub(crate) struct Proof {
+    /// The processor's own writes leave its header lists as they are.
+    pub(crate) holds: bool,
+    /// The words the walks read (a host write elsewhere keeps the proof).
+    pub(crate) read: RamWords,
+    /// The proof may be kept until a host write to a read word or a change of the blocks;
+    /// `false` when it was refused because a header the processor holds is not the RAM's
+    /// ([`held_as_in_ram`]): that passes as the processor moves on, so it is found afresh.
+    pub(crate) lasting: bool,
+}
+
 /// The layout proof of the chip's RAM as it is now for the header lists of `blocks`
-/// ([`possible_blocks`]), with the words the walks read (a host write elsewhere keeps the
-/// proof).
-pub(crate) fn prove(chip: &Chip, blocks: u8) -> (bool, RamWords) {
+/// ([`possible_blocks`]), with the words the walks read.
+pub(crate) fn prove(chip: &Chip, blocks: u8) -> Proof {
+    let (holds, read, lasting) = prove_lists(chip, blocks);
+    Proof {
+        holds,
+        read,
+        lasting,
+    }
+}
+
+/// [`prove`]: (holds, read, lasting).
+fn prove_lists(chip: &Chip, blocks: u8) -> (bool, RamWords, bool) {
     let variant = chip.cfg.variant;
     let mut read = RamWords::new(u32::from(variant.ram_words()));
     read.add(0, POINTER_WORDS);
@@ -149,8 +170,11 @@ pub(crate) fn prove(chip: &Chip, blocks: u8) -> (bool, RamWords) {
         let first = walk::word(&chip.ram, u32::from(compt)).unwrap_or(0);
         ok &= list(chip, first, &mut read, &mut headers, &mut stores);
         if !ok {
-            return (false, read);
+            return (false, read, true);
         }
+    }
+    if !held_as_in_ram(chip, &headers) {
+        return (false, read, false);
     }
     let hits = |from: u32, len: u32| read.any(from, len);
     let clear = stores.data.iter().all(|&(from, len)| !hits(from, len))
@@ -160,8 +184,53 @@ pub(crate) fn prove(chip: &Chip, blocks: u8) -> (bool, RamWords) {
             .services
             .iter()
             .all(|&nsv| service_clear(chip, variant, &read, nsv));
-    (clear, read)
+    (clear, read, true)
 }
+
+/// Whether the headers the processor holds are those the lists walked in the RAM (their
+/// first words in `headers`): the current header, read into NTH when the telegram before it
+/// started or its window closed and not read again (816 §2.10.1.2; its PT leads on, its
+/// DBUF/DMA bits choose the words its containers store, 410B §4.2.1/§4.2.2), and the
+/// receive header of a telegram still arriving (its containers are stored at its end with
+/// its buffering as read). A host that rewrites such a header in the RAM (its PT, its
+/// marker or buffering bits), or COMPT0/1 so that no list reaches it, leaves the processor
+/// on a list the walks do not see: nothing is promised then.
+fn held_as_in_ram(chip: &Chip, headers: &RamWords) -> bool {
+    let variant = chip.cfg.variant;
+    // Compared word by word (asked with every proof: no header decoded). Word 0: marker bits
+    // 15-14 (00 receive, 01 transmit), DMA 8, DBUF 9; word 3: PT (410B §4.2.1).
+    let same = |at: u16, marker: u16, pt: Option<u16>, dma: bool, dbuf: bool| {
+        let word = |i: u32| walk::word(&chip.ram, u32::from(at) + i);
+        let Some(w0) = word(0) else { return false };
+        headers.any(u32::from(at), 1)
+            && w0 & 0xC000 == marker
+            && (w0 & (1 << 8) != 0) == dma
+            && (w0 & (1 << 9) != 0) == dbuf
+            && pt.is_none_or(|p| word(3).is_some_and(|w3| w3 & variant.pointer_mask() == p))
+    };
+    if let Some(super::RxNow {
+        role: super::RxRole::Telegram { at, hdr },
+        ..
+    }) = &chip.tp.rx_now
+        && !same(*at, RX_MARKER, None, hdr.dma, hdr.dbuf)
+    {
+        return false;
+    }
+    match chip.tp.block.as_ref().and_then(|b| b.cur) {
+        Some(super::Cur::Rx { at, hdr, .. }) => {
+            same(at, RX_MARKER, Some(hdr.pt), hdr.dma, hdr.dbuf)
+        }
+        Some(super::Cur::Tx { at, hdr, .. }) => {
+            same(at, TX_MARKER, Some(hdr.pt), hdr.dma, hdr.dbuf)
+        }
+        _ => true,
+    }
+}
+
+/// Marker bits 15-14 of a receive header's word 0 (ERRATA "telegram header marker bits": 00).
+const RX_MARKER: u16 = 0x0000;
+/// Marker bits 15-14 of a transmit header's word 0 (01).
+const TX_MARKER: u16 = 0x4000;
 
 /// Walks the list from `first` as the processor would (410B §4.2.1: PT to PT, the end
 /// marker or a header reached twice ending it, a bounded number of steps), adding what it
@@ -184,8 +253,13 @@ fn list(
             return true;
         }
         let Ok(header) = walk::header_at(&chip.ram, variant, ptr) else {
-            // The processor stops here with a programming error.
-            return true;
+            // The processor stops here with a programming error (410B §4.1 17H). What
+            // decides that is the word with the marker bits (ERRATA "telegram header marker
+            // bits": 10 is no structure; a kind that does not fit before the RAM's end): a
+            // write over it, the host's or the processor's own (receive data, a header's
+            // status word), can make a header of it and the list go on. It is read.
+            headers.add(at, 1);
+            return read.add(at, 1);
         };
         let (kind, words, next) = match header {
             Header::Receive(h) => (HeaderKind::Receive, 5, Some((h.pt, h.buffering()))),
@@ -214,6 +288,10 @@ fn list(
             }
         }
         if containers.error.is_some() {
+            // The control words of the container that ended the walk decided it (LEN past
+            // the RAM's end, 410B §4.2.2): a host write there lets the proof be made again.
+            let (from, len) = containers.failed_words();
+            read.add(from, len);
             return false;
         }
         ptr = pt & variant.pointer_mask();

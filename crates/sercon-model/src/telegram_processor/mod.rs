@@ -526,6 +526,18 @@ pub(crate) fn advance(chip: &mut Chip, tick: u64, pt: u16) {
     load(chip, tick, pt);
 }
 
+/// The header the processor moves to cannot be processed (a programming error, 17H
+/// PROGERR_FL): the block ends at `tick`. The header before it is done with — its telegram
+/// started (the next header is read at a telegram's start, 816 §2.10.1.2) or its window
+/// closed and counted it missing — so it is no receive telegram still expected: 410B §4.2.1
+/// NERR counts a missing telegram once (and RERR, 5H.8 INT_RMISS, a service container's
+/// RECERR likewise follow it once), not again at the block's end.
+#[cold]
+fn abort_loading(chip: &mut Chip, tick: u64) {
+    set_cur(chip, None);
+    abort_block(chip, tick);
+}
+
 /// Reads the header at `ptr` (410B §4.2.1 PT: "Word address within the RAM of the next
 /// telegram header or the end marker") and makes it current.
 // Inlined into `advance` and `start_block`: one call less per header (performance.md
@@ -543,7 +555,7 @@ fn load(chip: &mut Chip, tick: u64, ptr: u16) {
     if steps > limit {
         // A list that never reaches its end marker loops.
         prog_error(chip, ProgErr::NoEndMarker);
-        abort_block(chip, tick);
+        abort_loading(chip, tick);
         return;
     }
     let variant = chip.cfg.variant;
@@ -552,14 +564,14 @@ fn load(chip: &mut Chip, tick: u64, ptr: u16) {
         // A header reached twice in one block: the list loops and never reaches its end
         // marker (410B §4.2.1 PT). Found at once, so a loop costs one pass over its headers.
         prog_error(chip, ProgErr::NoEndMarker);
-        abort_block(chip, tick);
+        abort_loading(chip, tick);
         return;
     }
     let words = match walk::header_words(&chip.ram, variant, ptr) {
         Ok(w) => w,
         Err(e) => {
             prog_error(chip, e);
-            abort_block(chip, tick);
+            abort_loading(chip, tick);
             return;
         }
     };
@@ -588,7 +600,7 @@ fn load_tx(chip: &mut Chip, tick: u64, ptr: u16, ref_tick: u64, w: [u16; 4]) {
     // 410B §4.2.1 transmit header; the kind was classified by `header_words`.
     let Ok(hdr) = TxHeader::from_words(chip.cfg.variant, w) else {
         prog_error(chip, ProgErr::OutsideRam);
-        abort_block(chip, tick);
+        abort_loading(chip, tick);
         return;
     };
     // 410B §4.2.1 TRT: "Time for the start of telegram in µs after the end of MST".
@@ -617,7 +629,7 @@ fn load_rx(chip: &mut Chip, tick: u64, ptr: u16, ref_tick: u64, w: [u16; 5]) {
     // 410B §4.2.1 receive header; the kind was classified by `header_words`.
     let Ok(hdr) = RxHeader::from_words(chip.cfg.variant, w) else {
         prog_error(chip, ProgErr::OutsideRam);
-        abort_block(chip, tick);
+        abort_loading(chip, tick);
         return;
     };
     let trt = u64::from(hdr.trt);

@@ -186,13 +186,37 @@ pub(crate) fn ram_written(chip: &Chip, from: u32, len: usize) {
             chip.tp.walk_overwritten.set(true);
         }
     }
+    // A refused layout proof rests on the words it read; the processor's own writes over
+    // them (receive data laid over a header, 410B §4.2.2: what refused it) may take the
+    // conflict away, and a fresh proof would then hold: found again (a proof that holds
+    // sees only header status words written over read words, which change no list).
+    if let Some((false, _)) = chip.layout.get() {
+        refusal_written(chip, from, len);
+    }
+}
+
+/// [`ram_written`] with the layout proof refused: dropped if the words written were read.
+#[cold]
+#[inline(never)]
+fn refusal_written(chip: &Chip, from: u32, len: usize) {
+    if chip
+        .layout_read
+        .borrow()
+        .any(from, u32::try_from(len).unwrap_or(u32::MAX))
+    {
+        chip.layout.set(None);
+    }
 }
 
 /// The controller wrote RAM it does not name word by word (a service container, 410B
-/// §4.2.4): a remembered walk is dropped.
+/// §4.2.4): a remembered walk is dropped, and a refused layout proof is found again (see
+/// [`ram_written`]).
 pub(crate) fn ram_rewritten(chip: &Chip) {
     chip.tp.tx_ahead.set(None);
     chip.tp.walk_overwritten.set(true);
+    if let Some((false, _)) = chip.layout.get() {
+        chip.layout.set(None);
+    }
 }
 
 /// [`next_tx_in_list`] from the current receive header, remembered (a master walks its

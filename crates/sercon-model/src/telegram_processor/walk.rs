@@ -192,6 +192,14 @@ impl<'r> Containers<'r> {
     }
 }
 
+impl Containers<'_> {
+    /// The control words of the container the walk stopped at (the one that ended it when
+    /// [`Containers::error`] is set): (first word, count).
+    pub(crate) fn failed_words(&self) -> (u32, u32) {
+        (self.next, self.control_words)
+    }
+}
+
 impl Iterator for Containers<'_> {
     type Item = Container;
 
