@@ -19,8 +19,9 @@ pub struct BenchArgs {
     /// Simulated time per scenario in milliseconds.
     #[arg(long, default_value_t = 200)]
     sim_ms: u64,
-    /// Run only the scenario of this name (ring-8, ring-n8, ring-32, ring-128, ring-254;
-    /// full stack: stack-8, phaseup-8, stack-n8).
+    /// Run only the scenario of this name (static rings: ring-8, ring-n8, ring-n32,
+    /// ring-n128, ring-254; full stack: stack-8, phaseup-8, stack-254, stack-n<n> for 1 to
+    /// 254 drives).
     #[arg(long)]
     scenario: Option<String>,
     /// Which scenarios: the static ring's, the full stack's, or both.
@@ -95,6 +96,24 @@ enum Stack {
     All,
 }
 
+/// The message for a `--scenario` that names nothing `--stack` runs: the names there are.
+fn unknown_scenario(name: &str, stack: Stack) -> String {
+    let ring: Vec<String> = scenario::all().into_iter().map(|s| s.name).collect();
+    let full: Vec<String> = full_stack::all().into_iter().map(|s| s.name).collect();
+    let in_ring = ring.iter().any(|n| n == name);
+    let in_full = full_stack::by_name(name).is_some();
+    let other = match stack {
+        Stack::Ring if in_full => " (it is a full-stack scenario: --stack full or all)",
+        Stack::Full if in_ring => " (it is a static-ring scenario: --stack ring or all)",
+        _ => "",
+    };
+    format!(
+        "no scenario named {name:?}{other}; static rings: {}; full stack: {}, stack-n<n> (1 to 254 drives)",
+        ring.join(", "),
+        full.join(", ")
+    )
+}
+
 /// Runs the scenarios.
 pub fn run(args: BenchArgs) -> Result<()> {
     let wanted = |name: &str| args.scenario.as_deref().is_none_or(|n| n == name);
@@ -116,8 +135,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
     };
     if ring.is_empty() && full.is_empty() {
         bail!(
-            "no scenario named {:?}",
-            args.scenario.clone().unwrap_or_default()
+            "{}",
+            unknown_scenario(args.scenario.as_deref().unwrap_or_default(), args.stack)
         );
     }
     if !args.json && !say!("{BUILD} build") {

@@ -119,3 +119,33 @@ fn a_closed_stdout_ends_the_output_quietly() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(out.status.success(), "{err}");
 }
+
+// An unknown scenario is refused with the names there are; a name of the other stack says so.
+#[test]
+fn an_unknown_scenario_is_refused_with_the_names_there_are() {
+    let out = sercon(&["bench", "--scenario", "ring-32", "--sim-ms", "1"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    for name in [
+        "\"ring-32\"",
+        "ring-8",
+        "ring-n32",
+        "ring-n128",
+        "ring-254",
+        "stack-8",
+        "stack-n<n>",
+    ] {
+        assert!(err.contains(name), "{name} in {err}");
+    }
+    let out = sercon(&[
+        "bench",
+        "--stack",
+        "ring",
+        "--scenario",
+        "stack-8",
+        "--sim-ms",
+        "1",
+    ]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--stack full"));
+}
