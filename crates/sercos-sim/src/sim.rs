@@ -801,7 +801,11 @@ impl Simulation {
                         }
                         seg = s.faults.apply(seg);
                     }
-                    if self.recorder.wants(cur) {
+                    // A replay (a repair, a power-on downstream) sends again what already
+                    // entered fibre `from` and was traced there: the trace shows each
+                    // telegram where it enters the segment, once (spec-notes "Trace times";
+                    // 410B §1 a fibre carries one signal). Further fibres get it anew.
+                    if self.recorder.wants(cur) && !(self.replay_to.is_some() && cur == from) {
                         self.recorder.observe(cur, &seg, origin_of(origin));
                     }
                 }
@@ -842,7 +846,11 @@ impl Simulation {
                 || next == 0
                 || origin == 0
                 || !matches!(seg.signal, LineSignal::Bits(_) | LineSignal::Filler)
-                || self.replay_to == Some(next);
+                // Every receiver down the ring from a repaired fibre or a node powered on
+                // was dark (the darkness was repeated, 410B §1), not only the first one:
+                // each gets the replay (else FIBBR stayed set behind the first until the
+                // master's next telegram, 410B §4.1 2H.13, where the exact path clears it).
+                || self.replay_to.is_some();
             let repeating = node.repeating && next != 0;
             if !fast || !repeating {
                 // The last hop: the segment itself goes to the receiver.
