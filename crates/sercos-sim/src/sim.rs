@@ -96,13 +96,39 @@ pub struct SimStats {
 struct Segment {
     delay: Duration,
     faults: SegmentFaults,
-    /// The last segment that entered it (simulation time) and its origin.
-    last_entered: Option<(LineSegment, usize)>,
+    /// The last segments that entered it (simulation time) and their origins, oldest
+    /// first, at most [`KEPT_ENTERED`]: a power-on downstream replays every one that
+    /// reaches the fresh receiver from its power-on on, a repair the one in effect.
+    last_entered: Vec<(LineSegment, usize)>,
     /// Keep `last_entered` (a break's repair or a power-on downstream replays it).
     keep_last: bool,
     /// Nothing to do as a segment enters: no fault in the whole run, nothing kept, not
     /// traced (all fixed when the simulation is made).
     plain: bool,
+}
+
+/// How many segments that entered a fibre it keeps (`Segment::last_entered`): more than
+/// can enter within a fibre's delay (a telegram and its filler, split where the fibre is
+/// kept, `splits_filler`; a fibre of 2 km is 10 µs long, a telegram at 16 Mbit/s and its
+/// filler at least about 3 µs).
+const KEPT_ENTERED: usize = 16;
+
+impl Segment {
+    /// Keeps `seg` (entering now, origin `origin`) as the last that entered: one entered
+    /// again (a replay) replaces those from its start on.
+    fn keep_entered(&mut self, seg: &LineSegment, origin: usize) {
+        while self
+            .last_entered
+            .last()
+            .is_some_and(|(s, _)| s.start >= seg.start)
+        {
+            self.last_entered.pop();
+        }
+        if self.last_entered.len() >= KEPT_ENTERED {
+            self.last_entered.remove(0);
+        }
+        self.last_entered.push((seg.clone(), origin));
+    }
 }
 
 /// A running simulation.
@@ -181,6 +207,8 @@ pub struct Simulation {
     /// The node a replay of what enters a fibre is for (`fault_end`): on the fast path it
     /// gets a slave's signal too (see `propagate`).
     replay_to: Option<usize>,
+    /// The run has faults (`propagate`: repeaters forward their copies themselves).
+    faulty: bool,
     /// The master's next output for any input (`Chip::next_output_for_any_input`), found
     /// once per pass of a telegram of the master (nothing reaches the master before the
     /// pass's last hop).
@@ -297,7 +325,7 @@ impl Simulation {
                 Segment {
                     delay: *d,
                     faults,
-                    last_entered: None,
+                    last_entered: Vec::new(),
                     keep_last,
                     plain,
                 }
@@ -324,6 +352,7 @@ impl Simulation {
             }
         }
         let drifting = first_drifting(&nodes);
+        let faulty = !cfg.faults.is_empty();
         let mut sim = Simulation {
             out_floors: OutFloors::new(
                 n,
@@ -375,6 +404,7 @@ impl Simulation {
             first_drifting: drifting,
             deferred: Vec::new(),
             replay_to: None,
+            faulty,
             master_next: None,
         };
         sim.start_hosts();
@@ -792,7 +822,7 @@ impl Simulation {
                 };
                 if enter && !s.plain {
                     if s.keep_last {
-                        s.last_entered = Some((seg.clone(), origin));
+                        s.keep_entered(&seg, origin);
                     }
                     // A clean fibre (the usual case) leaves the segment as it is.
                     if !s.faults.is_clean() {
@@ -859,17 +889,60 @@ impl Simulation {
                 }
                 return;
             }
-            if deliver {
-                self.deliver(next, seg.clone(), origin, repeating);
-            }
             // The segment's bit time is the same at every hop.
             let lat =
                 *lat.get_or_insert_with(|| seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS));
+            // A faulty ring (a fault-free one keeps every own output clear of the copies,
+            // as the exact path shows): an own output of the repeater may come first or cut
+            // the copy (410B §1: "or send their own telegrams"; the transmitter shadows or
+            // cuts the forwarded signal). Put out here, ahead of the chip, the copy would
+            // hold that output back and reach the nodes further on whole; the chip forwards
+            // it instead, as on the exact path, and it goes on from there at its time.
+            // A run with faults: an own output of the repeater may come first or cut the
+            // copy (410B §1 "or send their own telegrams": the transmitter shadows or cuts
+            // the forwarded signal), brought on by the input itself (a slave that lost its
+            // MST sends its AT as the MDT comes in). Put out here, ahead of the chip, the
+            // copy would hold that output back and reach the nodes further on whole; the
+            // chip forwards it instead, as on the exact path, and it goes on from there at
+            // its time. Whether an own output comes is known only once the chip has taken
+            // the input, and a chip not run ahead has not: so every copy, not only those
+            // found in the way (the run is the same with slaves run ahead or not). Not for a
+            // replay (a repair, a power-on): it reaches every node behind at once whatever
+            // its origin (see `deliver` above), which a copy the chip puts out later would
+            // not. A fault-free run keeps every own output clear of the copies; so does a
+            // plain ring (no fibre fault, no power window: clock drifts only, whose
+            // master's telegrams take `propagate_master_plain`).
+            if self.faulty && !self.plain_ring && self.replay_to.is_none() {
+                self.deliver_chip_forwards(next, seg, origin);
+                return;
+            }
+            if deliver {
+                self.deliver(next, seg.clone(), origin, repeating);
+            }
             if !self.repeat_out(next, &mut seg, lat) {
                 return;
             }
             cur = next;
         }
+    }
+
+    /// Hands `seg` to repeater `k` with its chip releasing the copy itself (as on the exact
+    /// path, `Chip::set_forward_output`): the copy is expected back with its origin
+    /// (`route_output`) when the chip puts it out, unless an own output shadows or cuts it.
+    #[cold]
+    #[inline(never)]
+    fn deliver_chip_forwards(&mut self, k: usize, seg: LineSegment, origin: usize) {
+        let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        if let Some(node) = self.nodes.get_mut(k) {
+            node.chip.set_forward_output(true);
+        }
+        self.deliver(k, seg, origin, true);
+        if let Some(node) = self.nodes.get_mut(k) {
+            node.chip.set_forward_output(false);
+            let at = node.in_floor.saturating_add(lat);
+            node.expect.push_back((at, origin));
+        }
+        self.touch(k);
     }
 
     /// [`Simulation::propagate`] of a master's segment on a plain ring (`plain_ring`) on the
@@ -952,7 +1025,7 @@ impl Simulation {
             return;
         };
         if s.keep_last {
-            s.last_entered = Some((seg.clone(), origin));
+            s.keep_entered(&seg, origin);
         }
         if s.faults.broken_at(seg.start) {
             return;
@@ -1397,8 +1470,8 @@ impl Simulation {
         };
         match f.kind {
             FaultKind::FibreBreak { segment, .. } => {
-                if let Some((seg, origin)) = self.current_entering(segment, t) {
-                    let downstream = (segment + 1) % self.nodes.len().max(1);
+                let downstream = (segment + 1) % self.nodes.len().max(1);
+                for (seg, origin) in self.current_entering(segment, t, false) {
                     self.replay(segment, seg, origin, downstream);
                 }
             }
@@ -1441,10 +1514,10 @@ impl Simulation {
                 };
                 let delay = self.segments.get(up).map_or(Duration::ZERO, |s| s.delay);
                 let at = Instant::from_picos(t.as_picos().saturating_sub(delay.as_picos()));
-                if !matches!(self.topology, Topology::Bus { .. })
-                    && let Some((seg, origin)) = self.current_entering(up, at)
-                {
-                    self.replay(up, seg, origin, node);
+                if !matches!(self.topology, Topology::Bus { .. }) {
+                    for (seg, origin) in self.current_entering(up, at, true) {
+                        self.replay(up, seg, origin, node);
+                    }
                 }
             }
             _ => {}
@@ -1460,13 +1533,46 @@ impl Simulation {
         self.replay_to = None;
     }
 
-    /// The signal entering segment `k` from `t` on, as a segment starting at `t`.
-    fn current_entering(&self, k: usize, t: Instant) -> Option<(LineSegment, usize)> {
-        let (last, origin) = self.segments.get(k)?.last_entered.clone()?;
-        if last.start >= t {
-            return Some((last, origin));
+    /// The signal entering segment `k` from `t` on, to be sent again. A repair (`later`
+    /// false): the last segment that entered, from `t` on (whole if it starts there or
+    /// later). A power-on (`later`): the segment in effect before `t`, from `t` on, and
+    /// every one that entered from `t` on, all of which reached the unpowered receiver: a
+    /// telegram and its filler entered within a fibre's delay before the power-on, on the
+    /// fast path two segments (`splits_filler`), must all reach the fresh receiver (it got
+    /// the filler only, not the telegram, when only the last was kept).
+    fn current_entering(&self, k: usize, t: Instant, later: bool) -> Vec<(LineSegment, usize)> {
+        let Some(kept) = self.segments.get(k).map(|s| &s.last_entered) else {
+            return Vec::new();
+        };
+        if !later {
+            return kept
+                .last()
+                .map(|(last, origin)| {
+                    let seg = if last.start >= t {
+                        last.clone()
+                    } else {
+                        Self::entering_from(last, t)
+                    };
+                    (seg, *origin)
+                })
+                .into_iter()
+                .collect();
         }
-        let seg = match last.from_instant(t) {
+        // The last one that started before `t`, if kept.
+        let first = kept.iter().rposition(|(s, _)| s.start < t);
+        let mut out = Vec::new();
+        if let Some(i) = first
+            && let Some((last, origin)) = kept.get(i)
+        {
+            out.push((Self::entering_from(last, t), *origin));
+        }
+        out.extend(kept.iter().skip(first.map_or(0, |i| i + 1)).cloned());
+        out
+    }
+
+    /// `last` (entered at or before `t`) from `t` on.
+    fn entering_from(last: &LineSegment, t: Instant) -> LineSegment {
+        match last.from_instant(t) {
             Some(s) => s,
             None => {
                 let signal = if last.level_at(t) {
@@ -1476,15 +1582,14 @@ impl Simulation {
                 };
                 LineSegment::steady(t, last.bit_time, signal, last.level_at(t))
             }
-        };
-        Some((seg, origin))
+        }
     }
 
     /// The bit time last seen entering segment `k` (for steady segments the fault makes).
     fn bit_time_hint(&self, k: usize) -> Duration {
         self.segments
             .get(k)
-            .and_then(|s| s.last_entered.as_ref())
+            .and_then(|s| s.last_entered.last())
             .map_or(Duration::ZERO, |(s, _)| s.bit_time)
     }
 }
