@@ -48,6 +48,9 @@ use wake_queue::WakeQueue;
 /// `Simulation::plain_hop` of a node a slave telegram does not pass by delays alone.
 const NOT_PLAIN: u64 = u64::MAX;
 
+/// Marks an origin in `Node::expect` as that of a replay's copy (`deliver_chip_forwards`).
+const REPLAYED: usize = 1 << (usize::BITS - 1);
+
 /// `Simulation::rewake_done` without a node.
 const NO_NODE: usize = usize::MAX;
 
@@ -207,6 +210,9 @@ pub struct Simulation {
     /// The node a replay of what enters a fibre is for (`fault_end`): on the fast path it
     /// gets a slave's signal too (see `propagate`).
     replay_to: Option<usize>,
+    /// A repeater's chip is putting out its copy of a replay (`deliver_chip_forwards`,
+    /// [`REPLAYED`]): every receiver behind gets it, as it gets the replay itself.
+    replay_copy: bool,
     /// The run has faults (`propagate`: repeaters forward their copies themselves).
     faulty: bool,
     /// The master's next output for any input (`Chip::next_output_for_any_input`), found
@@ -404,6 +410,7 @@ impl Simulation {
             first_drifting: drifting,
             deferred: Vec::new(),
             replay_to: None,
+            replay_copy: false,
             faulty,
             master_next: None,
         };
@@ -751,11 +758,13 @@ impl Simulation {
         let mut origin = j;
         // Exact path: a repeater's copy of what it received keeps its origin (the fast
         // path carries received segments itself, `propagate`; the chips release no copies).
+        let mut replayed = false;
         if let Some(&(s, o)) = node.expect.front()
             && s == seg.start
         {
             node.expect.pop_front();
-            origin = o;
+            origin = o & !REPLAYED;
+            replayed = o & REPLAYED != 0;
         }
         if matches!(seg.signal, LineSignal::Bits(_)) {
             // The chip's output after its own telegram is taken at the end of it, unless
@@ -770,7 +779,13 @@ impl Simulation {
         node.put_out(&mut floor, &mut seg, origin == j);
         self.out_floors.set(j, floor);
         self.floor_written(j);
-        self.propagate(j, seg, origin, true);
+        if replayed {
+            self.replay_copy = true;
+            self.propagate(j, seg, origin, true);
+            self.replay_copy = false;
+        } else {
+            self.propagate(j, seg, origin, true);
+        }
     }
 
     /// Carries `seg` (simulation time, at the entrance of segment `from`) down the line.
@@ -880,7 +895,8 @@ impl Simulation {
                 // was dark (the darkness was repeated, 410B §1), not only the first one:
                 // each gets the replay (else FIBBR stayed set behind the first until the
                 // master's next telegram, 410B §4.1 2H.13, where the exact path clears it).
-                || self.replay_to.is_some();
+                || self.replay_to.is_some()
+                || self.replay_copy;
             let repeating = node.repeating && next != 0;
             if !fast || !repeating {
                 // The last hop: the segment itself goes to the receiver.
@@ -906,13 +922,15 @@ impl Simulation {
             // chip forwards it instead, as on the exact path, and it goes on from there at
             // its time. Whether an own output comes is known only once the chip has taken
             // the input, and a chip not run ahead has not: so every copy, not only those
-            // found in the way (the run is the same with slaves run ahead or not). Not for a
-            // replay (a repair, a power-on): it reaches every node behind at once whatever
-            // its origin (see `deliver` above), which a copy the chip puts out later would
-            // not. A fault-free run keeps every own output clear of the copies; so does a
-            // plain ring (no fibre fault, no power window: clock drifts only, whose
-            // master's telegrams take `propagate_master_plain`).
-            if self.faulty && !self.plain_ring && self.replay_to.is_none() {
+            // found in the way (the run is the same with slaves run ahead or not). A replay (a repair, a
+            // power-on) too: its copies put out ahead of the chip went out before the chip's
+            // own copies of what came just before (the dark of a power-off at the same
+            // instant), which then followed behind them and cut them (INT_FIBBR at the master
+            // on the fast path only); its chip's copies reach every node behind as the replay
+            // does (`REPLAYED`, `deliver` above). A fault-free run keeps every own output
+            // clear of the copies; so does a plain ring (no fibre fault, no power window:
+            // clock drifts only, whose master's telegrams take `propagate_master_plain`).
+            if self.faulty && !self.plain_ring {
                 self.deliver_chip_forwards(next, seg, origin);
                 return;
             }
@@ -937,10 +955,15 @@ impl Simulation {
             node.chip.set_forward_output(true);
         }
         self.deliver(k, seg, origin, true);
+        let tag = if self.replay_to.is_some() || self.replay_copy {
+            origin | REPLAYED
+        } else {
+            origin
+        };
         if let Some(node) = self.nodes.get_mut(k) {
             node.chip.set_forward_output(false);
             let at = node.in_floor.saturating_add(lat);
-            node.expect.push_back((at, origin));
+            node.expect.push_back((at, tag));
         }
         self.touch(k);
     }
@@ -1426,8 +1449,21 @@ impl Simulation {
                 self.propagate(segment, dark, segment, false);
             }
             FaultKind::PowerOff { node, .. } => {
+                // The others run up to `t` and put out what they send then; the node itself
+                // is brought to `t` (its frozen state the same on both paths) but sends
+                // nothing from `t` on: the power-off applies before its output at `t` (the
+                // queue gives faults first at an instant; spec-notes "Faults: exact
+                // accounting", same-instant rule).
                 for k in 0..self.nodes.len() {
-                    self.advance_node(k, t);
+                    if k != node {
+                        self.advance_node(k, t);
+                    }
+                }
+                if let Some(n) = self.nodes.get_mut(node)
+                    && n.powered
+                {
+                    let local = n.clock.to_local(t);
+                    n.chip.advance_to(local);
                 }
                 self.settle();
                 if let Some(n) = self.nodes.get_mut(node) {
@@ -1438,9 +1474,13 @@ impl Simulation {
                     }
                     n.expect.clear();
                 }
-                if let Some(f) = self.out_floors.get(node) {
-                    self.out_floors.set(node, f.max(t));
-                }
+                // Its output ends at `t` (the dark below cuts what it put out there): the
+                // floor is `t`, not the end of that output. Kept at the output's end, it put
+                // the fresh chip's first output (a power-on at `t`, or soon after) behind a
+                // telegram that never left: a slave powered off and on at its AT's start
+                // (zero length) sent its dark 18.5 µs late, and on the fast path the
+                // replay's copies behind it too (spec-notes "Faults: exact accounting").
+                self.out_floors.set(node, t);
                 self.floor_written(node);
                 self.refresh_hop(node);
                 // Its transmitter goes dark.
@@ -1505,6 +1545,15 @@ impl Simulation {
                 n.run_host(Wake::PowerOn);
                 n.repeating = repeats(&mut n.chip);
                 self.touch(node);
+                // The fresh chip's first output (dark from its reset on) goes out now,
+                // before the replay below: on the fast path the replay puts the repeated
+                // copies out itself (`repeat_out`) and raises the output floor, so the dark,
+                // taken only when the node is served, went out after them and darkened the
+                // line behind the node from the end of the last copy (the master saw RDIST
+                // and FIBBR until its next telegram; the exact path's chip forwards the
+                // copies after its dark). At power-on time t the chip is powered from t on
+                // (spec-notes "Faults: exact accounting", same-instant rule).
+                self.route_outputs(node);
                 // What the line upstream carries now reaches the fresh receiver.
                 let up = (node + n_nodes - 1) % n_nodes;
                 let up = if matches!(self.topology, Topology::Bus { .. }) {
@@ -1534,8 +1583,8 @@ impl Simulation {
     }
 
     /// The signal entering segment `k` from `t` on, to be sent again. A repair (`later`
-    /// false): the last segment that entered, from `t` on (whole if it starts there or
-    /// later). A power-on (`later`): the segment in effect before `t`, from `t` on, and
+    /// false): the last segment that entered, from `t` on, if it started before `t` (one
+    /// entering at `t` or later passed the whole fibre). A power-on (`later`): the segment in effect before `t`, from `t` on, and
     /// every one that entered from `t` on, all of which reached the unpowered receiver: a
     /// telegram and its filler entered within a fibre's delay before the power-on, on the
     /// fast path two segments (`splits_filler`), must all reach the fresh receiver (it got
@@ -1545,16 +1594,24 @@ impl Simulation {
             return Vec::new();
         };
         if !later {
+            // A segment entering at the repair's instant or later finds the fibre whole
+            // (`SegmentFaults::broken_at`: a break lasts from its start up to, not
+            // including, its repair) and goes on by itself: sent again it reached the nodes
+            // behind twice, and on the fast path the second pass put its copy ahead of the
+            // chip's own (spec-notes "Faults: exact accounting", same-instant rule). Only
+            // the one in effect before the repair, dark at the far end, is sent again from
+            // then on: the last that started before it, unless one started at its instant.
+            // A segment the fast path entered ahead (a filler split from its telegram,
+            // `splits_filler`) does not hide it: both paths replay the same (the bit
+            // errors' random stream is drawn the same).
+            if kept.iter().any(|(s, _)| s.start == t) {
+                return Vec::new();
+            }
             return kept
-                .last()
-                .map(|(last, origin)| {
-                    let seg = if last.start >= t {
-                        last.clone()
-                    } else {
-                        Self::entering_from(last, t)
-                    };
-                    (seg, *origin)
-                })
+                .iter()
+                .rev()
+                .find(|(s, _)| s.start < t)
+                .map(|(last, origin)| (Self::entering_from(last, t), *origin))
                 .into_iter()
                 .collect();
         }
