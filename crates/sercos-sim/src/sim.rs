@@ -48,6 +48,9 @@ use wake_queue::WakeQueue;
 /// `Simulation::plain_hop` of a node a slave telegram does not pass by delays alone.
 const NOT_PLAIN: u64 = u64::MAX;
 
+/// Marks an origin in `Node::expect` as that of a replay's copy (`deliver_chip_forwards`).
+const REPLAYED: usize = 1 << (usize::BITS - 1);
+
 /// `Simulation::rewake_done` without a node.
 const NO_NODE: usize = usize::MAX;
 
@@ -96,13 +99,39 @@ pub struct SimStats {
 struct Segment {
     delay: Duration,
     faults: SegmentFaults,
-    /// The last segment that entered it (simulation time) and its origin.
-    last_entered: Option<(LineSegment, usize)>,
+    /// The last segments that entered it (simulation time) and their origins, oldest
+    /// first, at most [`KEPT_ENTERED`]: a power-on downstream replays every one that
+    /// reaches the fresh receiver from its power-on on, a repair the one in effect.
+    last_entered: Vec<(LineSegment, usize)>,
     /// Keep `last_entered` (a break's repair or a power-on downstream replays it).
     keep_last: bool,
     /// Nothing to do as a segment enters: no fault in the whole run, nothing kept, not
     /// traced (all fixed when the simulation is made).
     plain: bool,
+}
+
+/// How many segments that entered a fibre it keeps (`Segment::last_entered`): more than
+/// can enter within a fibre's delay (a telegram and its filler, split where the fibre is
+/// kept, `splits_filler`; a fibre of 2 km is 10 µs long, a telegram at 16 Mbit/s and its
+/// filler at least about 3 µs).
+const KEPT_ENTERED: usize = 16;
+
+impl Segment {
+    /// Keeps `seg` (entering now, origin `origin`) as the last that entered: one entered
+    /// again (a replay) replaces those from its start on.
+    fn keep_entered(&mut self, seg: &LineSegment, origin: usize) {
+        while self
+            .last_entered
+            .last()
+            .is_some_and(|(s, _)| s.start >= seg.start)
+        {
+            self.last_entered.pop();
+        }
+        if self.last_entered.len() >= KEPT_ENTERED {
+            self.last_entered.remove(0);
+        }
+        self.last_entered.push((seg.clone(), origin));
+    }
 }
 
 /// A running simulation.
@@ -181,6 +210,11 @@ pub struct Simulation {
     /// The node a replay of what enters a fibre is for (`fault_end`): on the fast path it
     /// gets a slave's signal too (see `propagate`).
     replay_to: Option<usize>,
+    /// A repeater's chip is putting out its copy of a replay (`deliver_chip_forwards`,
+    /// [`REPLAYED`]): every receiver behind gets it, as it gets the replay itself.
+    replay_copy: bool,
+    /// The run has faults (`propagate`: repeaters forward their copies themselves).
+    faulty: bool,
     /// The master's next output for any input (`Chip::next_output_for_any_input`), found
     /// once per pass of a telegram of the master (nothing reaches the master before the
     /// pass's last hop).
@@ -297,7 +331,7 @@ impl Simulation {
                 Segment {
                     delay: *d,
                     faults,
-                    last_entered: None,
+                    last_entered: Vec::new(),
                     keep_last,
                     plain,
                 }
@@ -324,6 +358,7 @@ impl Simulation {
             }
         }
         let drifting = first_drifting(&nodes);
+        let faulty = !cfg.faults.is_empty();
         let mut sim = Simulation {
             out_floors: OutFloors::new(
                 n,
@@ -375,6 +410,8 @@ impl Simulation {
             first_drifting: drifting,
             deferred: Vec::new(),
             replay_to: None,
+            replay_copy: false,
+            faulty,
             master_next: None,
         };
         sim.start_hosts();
@@ -721,11 +758,13 @@ impl Simulation {
         let mut origin = j;
         // Exact path: a repeater's copy of what it received keeps its origin (the fast
         // path carries received segments itself, `propagate`; the chips release no copies).
+        let mut replayed = false;
         if let Some(&(s, o)) = node.expect.front()
             && s == seg.start
         {
             node.expect.pop_front();
-            origin = o;
+            origin = o & !REPLAYED;
+            replayed = o & REPLAYED != 0;
         }
         if matches!(seg.signal, LineSignal::Bits(_)) {
             // The chip's output after its own telegram is taken at the end of it, unless
@@ -740,7 +779,13 @@ impl Simulation {
         node.put_out(&mut floor, &mut seg, origin == j);
         self.out_floors.set(j, floor);
         self.floor_written(j);
-        self.propagate(j, seg, origin, true);
+        if replayed {
+            self.replay_copy = true;
+            self.propagate(j, seg, origin, true);
+            self.replay_copy = false;
+        } else {
+            self.propagate(j, seg, origin, true);
+        }
     }
 
     /// Carries `seg` (simulation time, at the entrance of segment `from`) down the line.
@@ -792,7 +837,7 @@ impl Simulation {
                 };
                 if enter && !s.plain {
                     if s.keep_last {
-                        s.last_entered = Some((seg.clone(), origin));
+                        s.keep_entered(&seg, origin);
                     }
                     // A clean fibre (the usual case) leaves the segment as it is.
                     if !s.faults.is_clean() {
@@ -801,7 +846,11 @@ impl Simulation {
                         }
                         seg = s.faults.apply(seg);
                     }
-                    if self.recorder.wants(cur) {
+                    // A replay (a repair, a power-on downstream) sends again what already
+                    // entered fibre `from` and was traced there: the trace shows each
+                    // telegram where it enters the segment, once (spec-notes "Trace times";
+                    // 410B §1 a fibre carries one signal). Further fibres get it anew.
+                    if self.recorder.wants(cur) && !(self.replay_to.is_some() && cur == from) {
                         self.recorder.observe(cur, &seg, origin_of(origin));
                     }
                 }
@@ -842,7 +891,12 @@ impl Simulation {
                 || next == 0
                 || origin == 0
                 || !matches!(seg.signal, LineSignal::Bits(_) | LineSignal::Filler)
-                || self.replay_to == Some(next);
+                // Every receiver down the ring from a repaired fibre or a node powered on
+                // was dark (the darkness was repeated, 410B §1), not only the first one:
+                // each gets the replay (else FIBBR stayed set behind the first until the
+                // master's next telegram, 410B §4.1 2H.13, where the exact path clears it).
+                || self.replay_to.is_some()
+                || self.replay_copy;
             let repeating = node.repeating && next != 0;
             if !fast || !repeating {
                 // The last hop: the segment itself goes to the receiver.
@@ -851,17 +905,67 @@ impl Simulation {
                 }
                 return;
             }
-            if deliver {
-                self.deliver(next, seg.clone(), origin, repeating);
-            }
             // The segment's bit time is the same at every hop.
             let lat =
                 *lat.get_or_insert_with(|| seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS));
+            // A faulty ring (a fault-free one keeps every own output clear of the copies,
+            // as the exact path shows): an own output of the repeater may come first or cut
+            // the copy (410B §1: "or send their own telegrams"; the transmitter shadows or
+            // cuts the forwarded signal). Put out here, ahead of the chip, the copy would
+            // hold that output back and reach the nodes further on whole; the chip forwards
+            // it instead, as on the exact path, and it goes on from there at its time.
+            // A run with faults: an own output of the repeater may come first or cut the
+            // copy (410B §1 "or send their own telegrams": the transmitter shadows or cuts
+            // the forwarded signal), brought on by the input itself (a slave that lost its
+            // MST sends its AT as the MDT comes in). Put out here, ahead of the chip, the
+            // copy would hold that output back and reach the nodes further on whole; the
+            // chip forwards it instead, as on the exact path, and it goes on from there at
+            // its time. Whether an own output comes is known only once the chip has taken
+            // the input, and a chip not run ahead has not: so every copy, not only those
+            // found in the way (the run is the same with slaves run ahead or not). A replay (a repair, a
+            // power-on) too: its copies put out ahead of the chip went out before the chip's
+            // own copies of what came just before (the dark of a power-off at the same
+            // instant), which then followed behind them and cut them (INT_FIBBR at the master
+            // on the fast path only); its chip's copies reach every node behind as the replay
+            // does (`REPLAYED`, `deliver` above). A fault-free run keeps every own output
+            // clear of the copies; so does a plain ring (no fibre fault, no power window:
+            // clock drifts only, whose master's telegrams take `propagate_master_plain`).
+            if self.faulty && !self.plain_ring {
+                self.deliver_chip_forwards(next, seg, origin);
+                return;
+            }
+            if deliver {
+                self.deliver(next, seg.clone(), origin, repeating);
+            }
             if !self.repeat_out(next, &mut seg, lat) {
                 return;
             }
             cur = next;
         }
+    }
+
+    /// Hands `seg` to repeater `k` with its chip releasing the copy itself (as on the exact
+    /// path, `Chip::set_forward_output`): the copy is expected back with its origin
+    /// (`route_output`) when the chip puts it out, unless an own output shadows or cuts it.
+    #[cold]
+    #[inline(never)]
+    fn deliver_chip_forwards(&mut self, k: usize, seg: LineSegment, origin: usize) {
+        let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        if let Some(node) = self.nodes.get_mut(k) {
+            node.chip.set_forward_output(true);
+        }
+        self.deliver(k, seg, origin, true);
+        let tag = if self.replay_to.is_some() || self.replay_copy {
+            origin | REPLAYED
+        } else {
+            origin
+        };
+        if let Some(node) = self.nodes.get_mut(k) {
+            node.chip.set_forward_output(false);
+            let at = node.in_floor.saturating_add(lat);
+            node.expect.push_back((at, tag));
+        }
+        self.touch(k);
     }
 
     /// [`Simulation::propagate`] of a master's segment on a plain ring (`plain_ring`) on the
@@ -944,7 +1048,7 @@ impl Simulation {
             return;
         };
         if s.keep_last {
-            s.last_entered = Some((seg.clone(), origin));
+            s.keep_entered(&seg, origin);
         }
         if s.faults.broken_at(seg.start) {
             return;
@@ -1345,8 +1449,21 @@ impl Simulation {
                 self.propagate(segment, dark, segment, false);
             }
             FaultKind::PowerOff { node, .. } => {
+                // The others run up to `t` and put out what they send then; the node itself
+                // is brought to `t` (its frozen state the same on both paths) but sends
+                // nothing from `t` on: the power-off applies before its output at `t` (the
+                // queue gives faults first at an instant; spec-notes "Faults: exact
+                // accounting", same-instant rule).
                 for k in 0..self.nodes.len() {
-                    self.advance_node(k, t);
+                    if k != node {
+                        self.advance_node(k, t);
+                    }
+                }
+                if let Some(n) = self.nodes.get_mut(node)
+                    && n.powered
+                {
+                    let local = n.clock.to_local(t);
+                    n.chip.advance_to(local);
                 }
                 self.settle();
                 if let Some(n) = self.nodes.get_mut(node) {
@@ -1357,9 +1474,13 @@ impl Simulation {
                     }
                     n.expect.clear();
                 }
-                if let Some(f) = self.out_floors.get(node) {
-                    self.out_floors.set(node, f.max(t));
-                }
+                // Its output ends at `t` (the dark below cuts what it put out there): the
+                // floor is `t`, not the end of that output. Kept at the output's end, it put
+                // the fresh chip's first output (a power-on at `t`, or soon after) behind a
+                // telegram that never left: a slave powered off and on at its AT's start
+                // (zero length) sent its dark 18.5 µs late, and on the fast path the
+                // replay's copies behind it too (spec-notes "Faults: exact accounting").
+                self.out_floors.set(node, t);
                 self.floor_written(node);
                 self.refresh_hop(node);
                 // Its transmitter goes dark.
@@ -1389,8 +1510,8 @@ impl Simulation {
         };
         match f.kind {
             FaultKind::FibreBreak { segment, .. } => {
-                if let Some((seg, origin)) = self.current_entering(segment, t) {
-                    let downstream = (segment + 1) % self.nodes.len().max(1);
+                let downstream = (segment + 1) % self.nodes.len().max(1);
+                for (seg, origin) in self.current_entering(segment, t, false) {
                     self.replay(segment, seg, origin, downstream);
                 }
             }
@@ -1424,6 +1545,15 @@ impl Simulation {
                 n.run_host(Wake::PowerOn);
                 n.repeating = repeats(&mut n.chip);
                 self.touch(node);
+                // The fresh chip's first output (dark from its reset on) goes out now,
+                // before the replay below: on the fast path the replay puts the repeated
+                // copies out itself (`repeat_out`) and raises the output floor, so the dark,
+                // taken only when the node is served, went out after them and darkened the
+                // line behind the node from the end of the last copy (the master saw RDIST
+                // and FIBBR until its next telegram; the exact path's chip forwards the
+                // copies after its dark). At power-on time t the chip is powered from t on
+                // (spec-notes "Faults: exact accounting", same-instant rule).
+                self.route_outputs(node);
                 // What the line upstream carries now reaches the fresh receiver.
                 let up = (node + n_nodes - 1) % n_nodes;
                 let up = if matches!(self.topology, Topology::Bus { .. }) {
@@ -1433,10 +1563,10 @@ impl Simulation {
                 };
                 let delay = self.segments.get(up).map_or(Duration::ZERO, |s| s.delay);
                 let at = Instant::from_picos(t.as_picos().saturating_sub(delay.as_picos()));
-                if !matches!(self.topology, Topology::Bus { .. })
-                    && let Some((seg, origin)) = self.current_entering(up, at)
-                {
-                    self.replay(up, seg, origin, node);
+                if !matches!(self.topology, Topology::Bus { .. }) {
+                    for (seg, origin) in self.current_entering(up, at, true) {
+                        self.replay(up, seg, origin, node);
+                    }
                 }
             }
             _ => {}
@@ -1452,13 +1582,54 @@ impl Simulation {
         self.replay_to = None;
     }
 
-    /// The signal entering segment `k` from `t` on, as a segment starting at `t`.
-    fn current_entering(&self, k: usize, t: Instant) -> Option<(LineSegment, usize)> {
-        let (last, origin) = self.segments.get(k)?.last_entered.clone()?;
-        if last.start >= t {
-            return Some((last, origin));
+    /// The signal entering segment `k` from `t` on, to be sent again. A repair (`later`
+    /// false): the last segment that entered, from `t` on, if it started before `t` (one
+    /// entering at `t` or later passed the whole fibre). A power-on (`later`): the segment in effect before `t`, from `t` on, and
+    /// every one that entered from `t` on, all of which reached the unpowered receiver: a
+    /// telegram and its filler entered within a fibre's delay before the power-on, on the
+    /// fast path two segments (`splits_filler`), must all reach the fresh receiver (it got
+    /// the filler only, not the telegram, when only the last was kept).
+    fn current_entering(&self, k: usize, t: Instant, later: bool) -> Vec<(LineSegment, usize)> {
+        let Some(kept) = self.segments.get(k).map(|s| &s.last_entered) else {
+            return Vec::new();
+        };
+        if !later {
+            // A segment entering at the repair's instant or later finds the fibre whole
+            // (`SegmentFaults::broken_at`: a break lasts from its start up to, not
+            // including, its repair) and goes on by itself: sent again it reached the nodes
+            // behind twice, and on the fast path the second pass put its copy ahead of the
+            // chip's own (spec-notes "Faults: exact accounting", same-instant rule). Only
+            // the one in effect before the repair, dark at the far end, is sent again from
+            // then on: the last that started before it, unless one started at its instant.
+            // A segment the fast path entered ahead (a filler split from its telegram,
+            // `splits_filler`) does not hide it: both paths replay the same (the bit
+            // errors' random stream is drawn the same).
+            if kept.iter().any(|(s, _)| s.start == t) {
+                return Vec::new();
+            }
+            return kept
+                .iter()
+                .rev()
+                .find(|(s, _)| s.start < t)
+                .map(|(last, origin)| (Self::entering_from(last, t), *origin))
+                .into_iter()
+                .collect();
         }
-        let seg = match last.from_instant(t) {
+        // The last one that started before `t`, if kept.
+        let first = kept.iter().rposition(|(s, _)| s.start < t);
+        let mut out = Vec::new();
+        if let Some(i) = first
+            && let Some((last, origin)) = kept.get(i)
+        {
+            out.push((Self::entering_from(last, t), *origin));
+        }
+        out.extend(kept.iter().skip(first.map_or(0, |i| i + 1)).cloned());
+        out
+    }
+
+    /// `last` (entered at or before `t`) from `t` on.
+    fn entering_from(last: &LineSegment, t: Instant) -> LineSegment {
+        match last.from_instant(t) {
             Some(s) => s,
             None => {
                 let signal = if last.level_at(t) {
@@ -1468,15 +1639,14 @@ impl Simulation {
                 };
                 LineSegment::steady(t, last.bit_time, signal, last.level_at(t))
             }
-        };
-        Some((seg, origin))
+        }
     }
 
     /// The bit time last seen entering segment `k` (for steady segments the fault makes).
     fn bit_time_hint(&self, k: usize) -> Duration {
         self.segments
             .get(k)
-            .and_then(|s| s.last_entered.as_ref())
+            .and_then(|s| s.last_entered.last())
             .map_or(Duration::ZERO, |(s, _)| s.bit_time)
     }
 }

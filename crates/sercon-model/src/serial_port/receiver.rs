@@ -45,6 +45,10 @@ pub(crate) struct Receiver {
     fibbr_future: bool,
     /// The last segment is filler: edges continue until the next segment.
     open_filler: bool,
+    /// An explicit filler segment as the receiver was before it (`Receiver::input_one`):
+    /// a segment starting at the filler's own start replaces it before any bit of it came
+    /// (410B §4.1 2H.13 counts edges on the line; a filler of no bit time has none).
+    filler_before: Option<FillerBefore>,
     /// FIBBR timeout of the last configuration.
     timeout: Duration,
     /// The implied filler of the last segment ([`LineSegment::then_filler`]), taken at
@@ -55,6 +59,15 @@ pub(crate) struct Receiver {
     /// changes ([`Receiver::compute_ready`]): where the implied filler running starts and the
     /// bit time of the segment it follows, when the receiver is in that state.
     ready: Option<(Instant, Duration)>,
+}
+
+/// The receiver as it was before it took an explicit filler segment starting at `at`
+/// whose first edge (at `first`) scheduled no FIBBR change.
+#[derive(Debug, Clone, Copy)]
+struct FillerBefore {
+    at: Instant,
+    fibbr_deadline: Option<Instant>,
+    level: bool,
 }
 
 /// The receiver as it was before it took an implied filler, and what that scheduled.
@@ -401,7 +414,20 @@ impl Receiver {
     ) {
         let own_bt = cfg.bit_time.unwrap_or(seg.bit_time);
         self.timeout = own_bt.saturating_mul(FIBBR_BIT_TIMES);
-        let prev_level = self.level_at(seg.start).unwrap_or(false);
+        let mut prev_level = self.level_at(seg.start).unwrap_or(false);
+        // A filler replaced at its own start never was on the line (no bit of it, no edge):
+        // the receiver goes on as before it, so that a sender's filler cut at once by the
+        // next segment (a repeater's copy dropped for what came after it, 410B §1) leaves
+        // FIBBR's deadline where the last real edge put it (2H.13), not cleared.
+        if let Some(before) = self.filler_before.take()
+            && self.open_filler
+            && before.at == seg.start
+            && self.last.as_ref().is_some_and(|l| l.start == seg.start)
+        {
+            self.fibbr_deadline = before.fibbr_deadline;
+            self.open_filler = false;
+            prev_level = before.level;
+        }
         if let Some(end) = self.last.as_ref().and_then(LineSegment::end)
             && end > seg.start
         {
@@ -457,6 +483,15 @@ impl Receiver {
                 } else {
                     seg.start.saturating_add(seg.bit_time)
                 };
+                // Its first edge schedules no FIBBR change (none pending, no deadline passed
+                // by then): then a segment at its start can take it back whole.
+                if !self.fibbr_future && self.fibbr_deadline.is_none_or(|d| d > first) {
+                    self.filler_before = Some(FillerBefore {
+                        at: seg.start,
+                        fibbr_deadline: self.fibbr_deadline,
+                        level: prev_level,
+                    });
+                }
                 self.edge(first, events);
                 // Edges every bit time: no FIBBR while the filler lasts.
                 self.fibbr_deadline = None;

@@ -3,9 +3,10 @@
 //! behind), and the fault events, all known when the simulation is built, in one sorted list.
 //!
 //! It hands out events in exactly the order of the general [`crate::event_queue::EventQueue`]
-//! with nodes as components `0..n` and fault `i` as component `n + i` (DESIGN.md: the same
-//! configuration gives the same run): earlier time first; at the same time the lower
-//! component, so every node before every fault; a fault's start before its end. A node has
+//! with fault `i` as component `i` and node `j` as component `m + j` (`m` faults; DESIGN.md:
+//! the same configuration gives the same run): earlier time first; at the same time the
+//! lower component, so every fault before every node (a fault at an instant applies before
+//! what the nodes do then); a fault's start before its end. A node has
 //! one wake at a time, so (time, node) is unique and no sequence number is needed.
 //!
 //! A node wake handed out by [`WakeQueue::pop_until`] stays at the heap's root until the
@@ -213,8 +214,10 @@ impl WakeQueue {
             .copied()
             .filter(|e| e.0 <= limit);
         match (wake, fault) {
-            // At the same time a node (component < n) runs before any fault (n + i).
-            (Some((k, parked)), f) if f.is_none_or(|f| key_time(k) <= f.0) => {
+            // At the same time every fault (component i) comes before any node (m + j): a
+            // fault at `t` applies before what the nodes do at `t` (spec-notes "Faults: exact
+            // accounting", same-instant rule).
+            (Some((k, parked)), f) if f.is_none_or(|f| key_time(k) < f.0) => {
                 let j = key_node(k) as usize;
                 if parked {
                     // The smallest parked key: the bound stays a bound.
@@ -382,7 +385,8 @@ mod tests {
             let mut fault_events = Vec::new();
             for i in 0..rng.next(4) as usize {
                 let at = Instant::from_picos(rng.next(50));
-                let target = ComponentId((nodes + i) as u32);
+                // Faults first at the same time: components 0..4, nodes after them.
+                let target = ComponentId(i as u32);
                 general.schedule(at, target, Ev::FaultStart(i)).ok();
                 fault_events.push((at, Ev::FaultStart(i)));
                 if rng.next(2) == 0 {
@@ -416,7 +420,7 @@ mod tests {
                     } else {
                         let at = Instant::from_picos(now + rng.next(30));
                         handles[j] = general
-                            .schedule(at, ComponentId(j as u32), Ev::Node(j))
+                            .schedule(at, ComponentId(4 + j as u32), Ev::Node(j))
                             .ok();
                         // Parked or in the heap: the same order either way.
                         if rng.next(2) == 0 {
