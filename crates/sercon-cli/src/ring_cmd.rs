@@ -51,6 +51,11 @@ pub struct RingArgs {
     /// --json`).
     #[arg(long, value_name = "FILE")]
     transcript: Option<PathBuf>,
+    /// Run on the simulator's reference path (every repeater's output taken from its chip,
+    /// no slave run ahead): the same run as without, more slowly; a check of the fast path
+    /// on this ring.
+    #[arg(long)]
+    reference: bool,
 }
 
 fn parse_seconds(text: &str) -> Result<sercos_wire::time::Duration, String> {
@@ -73,6 +78,7 @@ fn spec_of(args: &RingArgs) -> Result<RingSpec> {
         spec.seed = s;
     }
     spec.faults.extend(args.fault.iter().cloned());
+    spec.reference |= args.reference;
     let t = &mut spec.traces;
     for (slot, arg) in [
         (&mut t.log, &args.log),

@@ -300,3 +300,75 @@ fn example_config_runs() {
         Some(true)
     );
 }
+
+/// `sercon ring args… --log … --vcd … --transcript … --pcap … --json` in `dir`: the five
+/// files' bytes (report, log, VCD, transcript, pcap).
+fn traced_run(dir: &Path, args: &[&str]) -> Vec<Vec<u8>> {
+    let path = |f: &str| dir.join(f).to_string_lossy().into_owned();
+    let (log, vcd, transcript, pcap) = (
+        path("l.jsonl"),
+        path("v.vcd"),
+        path("t.jsonl"),
+        path("p.pcap"),
+    );
+    let mut all = args.to_vec();
+    all.extend([
+        "--log",
+        &log,
+        "--vcd",
+        &vcd,
+        "--transcript",
+        &transcript,
+        "--pcap",
+        &pcap,
+        "--json",
+    ]);
+    let o = sercon(&all);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut files = vec![o.stdout];
+    for f in [&log, &vcd, &transcript, &pcap] {
+        files.push(std::fs::read(f).expect("a trace"));
+    }
+    files
+}
+
+// Issue 5 item 4 ("a fault never changes what the components do except through the line or
+// the pins"): `--reference` runs the simulator's reference path (every repeater's output from
+// its chip, no slave run ahead); with a fibre break, bit errors and a drive powered off and
+// on, the report and every trace are byte for byte those of the fast path.
+#[test]
+fn the_reference_path_gives_the_fast_path_s_run_with_faults() {
+    let args = [
+        "ring",
+        "--drives",
+        "3",
+        "--baud",
+        "8",
+        "--seconds",
+        "0.5",
+        "--fault",
+        "break:2@0.3s..0.35s",
+        "--fault",
+        "ber:1e-5",
+        "--fault",
+        "power:1@0.1s..0.15s",
+    ];
+    let fast_dir = tempfile::tempdir().expect("a temporary directory");
+    let fast = traced_run(fast_dir.path(), &args);
+    let mut with = args.to_vec();
+    with.push("--reference");
+    let reference_dir = tempfile::tempdir().expect("a temporary directory");
+    let reference = traced_run(reference_dir.path(), &with);
+    let report: serde_json::Value = serde_json::from_slice(&fast[0]).expect("a JSON report");
+    assert!(
+        report["events"].as_array().is_some_and(|e| e.len() > 3),
+        "{report}"
+    );
+    let differ: Vec<&str> = ["report", "log", "VCD", "transcript", "pcap"]
+        .into_iter()
+        .zip(fast.iter().zip(&reference))
+        .filter(|(_, (f, r))| f != r)
+        .map(|(name, _)| name)
+        .collect();
+    assert!(differ.is_empty(), "differ: {differ:?}");
+}

@@ -908,12 +908,6 @@ impl Simulation {
             // The segment's bit time is the same at every hop.
             let lat =
                 *lat.get_or_insert_with(|| seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS));
-            // A faulty ring (a fault-free one keeps every own output clear of the copies,
-            // as the exact path shows): an own output of the repeater may come first or cut
-            // the copy (410B §1: "or send their own telegrams"; the transmitter shadows or
-            // cuts the forwarded signal). Put out here, ahead of the chip, the copy would
-            // hold that output back and reach the nodes further on whole; the chip forwards
-            // it instead, as on the exact path, and it goes on from there at its time.
             // A run with faults: an own output of the repeater may come first or cut the
             // copy (410B §1 "or send their own telegrams": the transmitter shadows or cuts
             // the forwarded signal), brought on by the input itself (a slave that lost its
@@ -922,14 +916,15 @@ impl Simulation {
             // chip forwards it instead, as on the exact path, and it goes on from there at
             // its time. Whether an own output comes is known only once the chip has taken
             // the input, and a chip not run ahead has not: so every copy, not only those
-            // found in the way (the run is the same with slaves run ahead or not). A replay (a repair, a
-            // power-on) too: its copies put out ahead of the chip went out before the chip's
-            // own copies of what came just before (the dark of a power-off at the same
-            // instant), which then followed behind them and cut them (INT_FIBBR at the master
-            // on the fast path only); its chip's copies reach every node behind as the replay
-            // does (`REPLAYED`, `deliver` above). A fault-free run keeps every own output
-            // clear of the copies; so does a plain ring (no fibre fault, no power window:
-            // clock drifts only, whose master's telegrams take `propagate_master_plain`).
+            // found in the way (the run is the same with slaves run ahead or not). A replay
+            // (a repair, a power-on) too: its copies put out ahead of the chip went out
+            // before the chip's own copies of what came just before (the dark of a
+            // power-off at the same instant), which then followed and cut them (INT_FIBBR
+            // at the master on the fast path only); its chip's copies reach every node
+            // behind as the replay does (`REPLAYED`, `deliver` above). A fault-free run
+            // keeps every own output clear of the copies; so does a plain ring (no fibre
+            // fault, no power window: clock drifts only, whose master's telegrams take
+            // `propagate_master_plain`).
             if self.faulty && !self.plain_ring {
                 self.deliver_chip_forwards(next, seg, origin);
                 return;

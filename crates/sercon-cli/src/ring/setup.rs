@@ -325,7 +325,11 @@ pub fn build(spec: &RingSpec, faults: Vec<Fault>, traces: bool) -> Result<BuiltR
         nodes,
         faults,
         seed: spec.seed,
-        delivery: Delivery::Fast,
+        delivery: if spec.reference {
+            Delivery::Exact
+        } else {
+            Delivery::Fast
+        },
         traces: if traces {
             trace_config(spec, n)
         } else {

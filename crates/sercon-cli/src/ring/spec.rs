@@ -69,6 +69,11 @@ pub struct RingSpec {
     /// S-0-0015, the telegram type the master writes to every drive: 7 (configured, the
     /// master's lists) or a standard type 0-6 (`sercdrv::master::standard_telegram`).
     pub telegram_type: u16,
+    /// Run on the simulator's reference path (`sercos_sim::Delivery::Exact`: every
+    /// repeater's output taken from its chip, no slave run ahead) instead of its fast path;
+    /// both give the same run, the reference one more slowly (a check of the fast path on
+    /// a ring of one's own).
+    pub reference: bool,
 }
 
 /// Default fibre length between two nodes, metres.
@@ -112,6 +117,7 @@ impl Default for RingSpec {
             profile: super::motion_profile::MotionProfile::default(),
             traces: TraceSpec::default(),
             telegram_type: sercdrv::master::TELEGRAM_TYPE_CONFIGURED,
+            reference: false,
         }
     }
 }
