@@ -297,8 +297,9 @@ fn check_accounting(
 /// The slaves whose MDT NERR the rule in [`expected`] does not decide (open, spec-notes
 /// "Faults: exact accounting"): an MDT it counts (lost in a cycle whose MST the slave
 /// took) next to a lost MST, the previous cycle's or the next one's. The chips count no
-/// NERR for such an MDT on either path (410B §4.2.1 not decided: the block of a cycle
-/// before or after a lost MST).
+/// NERR for such an MDT on either path: with TCHK = 0 (410B §4.2.1, no receive window) the
+/// header waits for its telegram and the lost MST does not end the block, so the next
+/// cycle's MDT fills it (spec-notes "Faults: exact accounting", session 14).
 fn nerr_undecided(
     reference: &[Rec],
     faulty: &[Rec],
