@@ -3,6 +3,8 @@
 # drives; 3 drives with a fibre break, bit errors and a power cycle; 20 drives at 4 Mbit/s;
 # the 410B), each with telegram log, VCD, transcript, pcap and JSON report, five files each.
 # Usage: scripts/trace-identity.sh SERCON_A SERCON_B [WORK_DIR]
+# B_EXTRA (environment): options added to side B's runs (scripts/reference-identity.sh sets
+# --reference to compare one build's fast and reference paths).
 # Prints "same" or "DIFF" per file (20 lines) and exits 1 if any differs.
 set -uo pipefail
 if [ $# -lt 2 ]; then
@@ -15,11 +17,14 @@ i=0 diff=0
 run() {
   i=$((i + 1))
   for side in A B; do
-    bin=$a
-    [ "$side" = B ] && bin=$b
+    bin=$a extra=()
+    if [ "$side" = B ]; then
+      bin=$b
+      read -r -a extra <<<"${B_EXTRA:-}"
+    fi
     d=$dir/$side/$i
     rm -rf "$d" && mkdir -p "$d"
-    (cd "$d" && "$bin" ring "$@" --log l.jsonl --vcd v.vcd --transcript t.jsonl --pcap p.pcap \
+    (cd "$d" && "$bin" ring "$@" "${extra[@]}" --log l.jsonl --vcd v.vcd --transcript t.jsonl --pcap p.pcap \
       --json >report.json 2>err.txt) || echo "$side run $i exited $?"
   done
   for f in l.jsonl v.vcd t.jsonl p.pcap report.json; do
