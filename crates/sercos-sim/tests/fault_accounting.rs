@@ -396,6 +396,37 @@ fn ring_of(slaves: usize, mdt_after_ats: bool, seed: u64) -> StaticRing {
     ring
 }
 
+/// [`ring_of`] at 4 Mbit/s with a 500 µs cycle (the rings the mixed property test found
+/// its cases on).
+fn slow_ring_of(slaves: usize, mdt_after_ats: bool, seed: u64) -> StaticRing {
+    let mut ring = ring_of(slaves, mdt_after_ats, seed);
+    ring.bit_rate = sercos_wire::time::BitRate::Mbit4;
+    ring.cycle_us = 500;
+    ring
+}
+
+/// Fibre `segment` broken from `at` until `until`.
+fn fibre_break(segment: usize, at: Instant, until: Instant) -> Fault {
+    Fault {
+        at,
+        kind: FaultKind::FibreBreak {
+            segment,
+            until: Some(until),
+        },
+    }
+}
+
+/// Node `node` powered off from `at` until `until`.
+fn power_off(node: usize, at: Instant, until: Instant) -> Fault {
+    Fault {
+        at,
+        kind: FaultKind::PowerOff {
+            node,
+            until: Some(until),
+        },
+    }
+}
+
 // 410B §4.2.1 RERR/NERR, §4.2 NMSTERR, §4.2.2 data: random bit errors on one fibre.
 #[test]
 fn random_bit_errors_are_counted_exactly_by_every_receiver() {
@@ -658,13 +689,7 @@ fn fibbr(o: &Outcome, node: usize) -> Vec<(u64, bool)> {
 /// edge, cleared at the next edge; spec-notes "Serial port") exactly while it is dark there.
 fn check_break(slaves: usize, seg: usize, from: Instant, to: Instant, mdt_after_ats: bool) {
     let ring = ring_of(slaves, mdt_after_ats, 3);
-    let faults = [Fault {
-        at: from,
-        kind: FaultKind::FibreBreak {
-            segment: seg,
-            until: Some(to),
-        },
-    }];
+    let faults = [fibre_break(seg, from, to)];
     let (o, _, want) = check_accounting(&ring, &faults, us(600), us(2600), &[]);
     let after = (seg + 1) % (slaves + 1);
     let delay = Duration::from_nanos(50); // 10 m × 5 ns/m
@@ -785,13 +810,7 @@ fn power_off_and_on_at_any_instant_is_reported_exactly() {
             let on = from + Duration::from_micros(400 + 61 * i as u64 + 17 * node as u64);
             let mut r = ring.clone();
             r.mdt_after_ats = (i + node) % 2 == 0;
-            let faults = [Fault {
-                at: from,
-                kind: FaultKind::PowerOff {
-                    node,
-                    until: Some(on),
-                },
-            }];
+            let faults = [power_off(node, from, on)];
             let (o, _, want) = check_accounting(&r, &faults, us(600), us(2600), &[node]);
             // The node after it sees the dark fibre (410B §4.1 2H.13) while it is off.
             let after = (node + 1) % 4;
@@ -934,13 +953,7 @@ fn a_replay_at_power_on_is_not_traced_twice() {
     ring.delivery = Delivery::Exact;
     ring.bit_rate = sercos_wire::time::BitRate::Mbit4;
     ring.cycle_us = 500;
-    let faults = [Fault {
-        at: us(2775),
-        kind: FaultKind::PowerOff {
-            node: 1,
-            until: Some(Instant::from_picos(3_004_907_000)),
-        },
-    }];
+    let faults = [power_off(1, us(2775), Instant::from_picos(3_004_907_000))];
     let (mut cfg, hosts, _) = build(&ring);
     cfg.faults = faults.to_vec();
     let (_, out) = run(cfg, hosts, us(3600));
@@ -982,13 +995,11 @@ fn a_master_power_blip_leaves_the_slaves_ats_at_their_time_on_the_fast_path() {
     ring.bit_rate = sercos_wire::time::BitRate::Mbit2;
     ring.cycle_us = 1000;
     ring.fibre_m = 163;
-    let faults = [Fault {
-        at: Instant::from_picos(6_201_652_000),
-        kind: FaultKind::PowerOff {
-            node: 0,
-            until: Some(Instant::from_picos(6_201_653_000)),
-        },
-    }];
+    let faults = [power_off(
+        0,
+        Instant::from_picos(6_201_652_000),
+        Instant::from_picos(6_201_653_000),
+    )];
     let [exact, fast] = both_logs(&ring, &faults, us(6600));
     assert_eq!(exact, fast);
 }
@@ -1002,16 +1013,8 @@ fn a_master_power_blip_leaves_the_slaves_ats_at_their_time_on_the_fast_path() {
 // sends every one from the power-on's instant on (`Simulation::current_entering`).
 #[test]
 fn a_slave_powered_on_just_before_a_telegram_arrives_gets_it_on_the_fast_path() {
-    let mut ring = ring_of(3, false, 0);
-    ring.bit_rate = sercos_wire::time::BitRate::Mbit4;
-    ring.cycle_us = 500;
-    let faults = [Fault {
-        at: us(2775),
-        kind: FaultKind::PowerOff {
-            node: 1,
-            until: Some(Instant::from_picos(3_004_907_000)),
-        },
-    }];
+    let ring = slow_ring_of(3, false, 0);
+    let faults = [power_off(1, us(2775), Instant::from_picos(3_004_907_000))];
     let [exact, fast] = both_logs(&ring, &faults, us(3600));
     assert_eq!(exact, fast);
 }
@@ -1024,17 +1027,13 @@ fn a_slave_powered_on_just_before_a_telegram_arrives_gets_it_on_the_fast_path() 
 // a filler replaced at its own start leaves the receiver as before it.
 #[test]
 fn a_short_power_off_shows_the_same_fibbr_on_both_paths() {
-    let mut ring = ring_of(3, false, 0);
-    ring.bit_rate = sercos_wire::time::BitRate::Mbit4;
-    ring.cycle_us = 500;
+    let ring = slow_ring_of(3, false, 0);
     let faults = [
-        Fault {
-            at: Instant::from_picos(2_517_757_000),
-            kind: FaultKind::PowerOff {
-                node: 2,
-                until: Some(Instant::from_picos(2_525_007_000)),
-            },
-        },
+        power_off(
+            2,
+            Instant::from_picos(2_517_757_000),
+            Instant::from_picos(2_525_007_000),
+        ),
         Fault {
             at: Instant::from_picos(2_320_406_000),
             kind: FaultKind::BitErrorBurst {
@@ -1064,13 +1063,11 @@ fn a_short_power_off_shows_the_same_fibbr_on_both_paths() {
 #[test]
 fn every_node_behind_a_repaired_fibre_sees_the_light_at_once() {
     let ring = ring_of(3, false, 467);
-    let faults = [Fault {
-        at: Instant::from_picos(1_829_205_000),
-        kind: FaultKind::FibreBreak {
-            segment: 1,
-            until: Some(Instant::from_picos(2_524_032_000)),
-        },
-    }];
+    let faults = [fibre_break(
+        1,
+        Instant::from_picos(1_829_205_000),
+        Instant::from_picos(2_524_032_000),
+    )];
     let step = Duration::from_micros(7);
     let outs: Vec<Outcome> = [Delivery::Exact, Delivery::Fast]
         .into_iter()
@@ -1167,13 +1164,11 @@ fn drifting_slaves_stay_synchronised_within_the_tolerances_and_report_beyond() {
 fn a_repair_at_the_instant_a_telegram_enters_passes_it_once() {
     let mut ring = ring_of(4, true, 9);
     ring.fibre_m = 421;
-    let faults = [Fault {
-        at: Instant::from_picos(1_256_001_000),
-        kind: FaultKind::FibreBreak {
-            segment: 0,
-            until: Some(Instant::from_picos(1_506_000_000)),
-        },
-    }];
+    let faults = [fibre_break(
+        0,
+        Instant::from_picos(1_256_001_000),
+        Instant::from_picos(1_506_000_000),
+    )];
     check_mixed(&ring, &faults, 250);
 }
 
@@ -1181,24 +1176,18 @@ fn a_repair_at_the_instant_a_telegram_enters_passes_it_once() {
 // and the exact accounting with the fixes of session 14 (task fastfix2).
 #[test]
 fn two_fibre_breaks_on_one_ring_are_reported_exactly() {
-    let mut ring = ring_of(3, true, 616);
-    ring.bit_rate = sercos_wire::time::BitRate::Mbit4;
-    ring.cycle_us = 500;
+    let ring = slow_ring_of(3, true, 616);
     let faults = [
-        Fault {
-            at: Instant::from_picos(3_004_900_000),
-            kind: FaultKind::FibreBreak {
-                segment: 0,
-                until: Some(Instant::from_picos(3_091_900_000)),
-            },
-        },
-        Fault {
-            at: Instant::from_picos(3_281_000_000),
-            kind: FaultKind::FibreBreak {
-                segment: 2,
-                until: Some(Instant::from_picos(3_569_500_000)),
-            },
-        },
+        fibre_break(
+            0,
+            Instant::from_picos(3_004_900_000),
+            Instant::from_picos(3_091_900_000),
+        ),
+        fibre_break(
+            2,
+            Instant::from_picos(3_281_000_000),
+            Instant::from_picos(3_569_500_000),
+        ),
     ];
     check_mixed(&ring, &faults, 500);
 }
@@ -1211,16 +1200,12 @@ fn two_fibre_breaks_on_one_ring_are_reported_exactly() {
 // output is taken before the replay.
 #[test]
 fn a_slave_powered_on_darkens_nothing_after_its_replay() {
-    let mut ring = ring_of(1, false, 0);
-    ring.bit_rate = sercos_wire::time::BitRate::Mbit4;
-    ring.cycle_us = 500;
-    let faults = [Fault {
-        at: Instant::from_picos(3_584_604_000),
-        kind: FaultKind::PowerOff {
-            node: 1,
-            until: Some(Instant::from_picos(5_018_969_000)),
-        },
-    }];
+    let ring = slow_ring_of(1, false, 0);
+    let faults = [power_off(
+        1,
+        Instant::from_picos(3_584_604_000),
+        Instant::from_picos(5_018_969_000),
+    )];
     check_mixed(&ring, &faults, 500);
 }
 
@@ -1231,15 +1216,11 @@ fn a_slave_powered_on_darkens_nothing_after_its_replay() {
 // of slave 2's chip, let slave 2's dark cut them (INT_FIBBR at the master, fast only).
 #[test]
 fn a_zero_length_power_off_at_an_at_s_start_runs_the_same_on_both_paths() {
-    let mut ring = ring_of(2, false, 0);
-    ring.bit_rate = sercos_wire::time::BitRate::Mbit4;
-    ring.cycle_us = 500;
-    let faults = [Fault {
-        at: Instant::from_picos(3_553_125_000),
-        kind: FaultKind::PowerOff {
-            node: 1,
-            until: Some(Instant::from_picos(3_553_125_000)),
-        },
-    }];
+    let ring = slow_ring_of(2, false, 0);
+    let faults = [power_off(
+        1,
+        Instant::from_picos(3_553_125_000),
+        Instant::from_picos(3_553_125_000),
+    )];
     check_mixed(&ring, &faults, 500);
 }
