@@ -433,10 +433,7 @@ proptest! {
         ram in proptest::collection::vec(any::<u16>(), 64),
         fill in any::<u16>(),
         master in any::<bool>(),
-        frames in proptest::collection::vec(
-            (0u64..300, proptest::collection::vec(any::<u8>(), 0..40)),
-            0..12,
-        ),
+        frames in any_frames(),
     ) {
         let chip = common::arbitrary_chip(&ram, fill, master, None);
         arbitrary_run(chip.clone(), frames.clone(), false)?;
@@ -458,10 +455,7 @@ proptest! {
         ram in proptest::collection::vec(any::<u16>(), 64),
         fill in any::<u16>(),
         master in any::<bool>(),
-        frames in proptest::collection::vec(
-            (0u64..300, proptest::collection::vec(any::<u8>(), 0..40)),
-            0..12,
-        ),
+        frames in any_frames(),
         writes in proptest::collection::vec(
             (0u64..300, 0u8..8, any::<u16>(), any::<u16>()),
             0..16,
@@ -489,6 +483,14 @@ fn a_telegram_outliving_its_block_does_not_leave_its_held_bound_kept() {
     let chip = common::arbitrary_chip(&ram, 55241, true, None);
     arbitrary_run(chip.clone(), vec![(284, bytes.clone())], false).expect("plain advances");
     arbitrary_run(chip, vec![(284, bytes)], true).expect("kept bounds");
+}
+
+/// Up to 12 frames of up to 40 bytes (ADR and data), each with its start in µs (0-299).
+fn any_frames() -> impl Strategy<Value = Vec<(u64, Vec<u8>)>> {
+    proptest::collection::vec(
+        (0u64..300, proptest::collection::vec(any::<u8>(), 0..40)),
+        0..12,
+    )
 }
 
 /// Runs `chip` µs by µs to 400 µs with `frames` (start in µs, ADR and data) handed over a µs
@@ -638,29 +640,8 @@ fn master_with_ats_ahead(skip_third: bool) -> (Chip, Instant) {
 #[test]
 fn a_promise_made_with_frames_pending_holds_for_what_they_write() {
     let (mut m, t0) = master_with_ats_ahead(false);
-    let mut buf = Vec::new();
-    let mut own = Vec::new();
-    while own.is_empty() && m.now() < t0 + Duration::from_micros(300) {
-        let Some(p) = promise(&m) else { break };
-        m.advance_to(p);
-        m.take_line_output(&mut buf);
-        for seg in buf.drain(..) {
-            assert!(
-                seg.start >= p,
-                "a segment at {:?} before the promise {p:?}",
-                seg.start
-            );
-            if let LineSignal::Bits(_) = seg.signal {
-                own.push(seg.start);
-            }
-        }
-    }
     // The third telegram (TRT 120 µs after the MST's end), before the next MST (250 µs).
-    assert!(
-        own.first()
-            .is_some_and(|s| *s < t0 + Duration::from_micros(250)),
-        "{own:?} after the MST at {t0:?}"
-    );
+    sends_in_the_cycle(&mut m, t0);
 }
 
 // 410B §4.2.2: with AT 1's container laid over a header on the list nothing is promised
@@ -713,6 +694,17 @@ fn a_host_write_to_a_header_can_take_the_layout_proof_a_data_write_keeps() {
     assert_eq!(m.next_output_bound(), bound, "AT 2's PT back");
 }
 
+/// [`sleep_on_promises`] from `t0` (an MST's start): `m` sends a telegram of its own within
+/// that cycle (the third telegram the received data enable), the promises kept on the way.
+fn sends_in_the_cycle(m: &mut Chip, t0: Instant) {
+    let own = sleep_on_promises(m, t0);
+    assert!(
+        own.first()
+            .is_some_and(|s| *s < t0 + Duration::from_micros(250)),
+        "{own:?} after the MST at {t0:?}"
+    );
+}
+
 /// Advances `m` from promise to promise (a simulation sleeping on it) until it sends a
 /// telegram of its own or 300 µs after `t0`, checking that nothing starts before the promise
 /// asked before each advance; the starts of its own telegrams.
@@ -750,12 +742,7 @@ const NO_HEADER: u16 = 0x8000;
 fn data_over_a_word_that_is_no_header_yet_take_the_layout_proof() {
     let (mut m, t0) = master_with_ats_ahead(false);
     m.write_ram(37, NO_HEADER);
-    let own = sleep_on_promises(&mut m, t0);
-    assert!(
-        own.first()
-            .is_some_and(|s| *s < t0 + Duration::from_micros(250)),
-        "{own:?} after the MST at {t0:?}"
-    );
+    sends_in_the_cycle(&mut m, t0);
 }
 
 // 410B §4.2.1, the same list with AT 2's PT leading to a word that is no header (marker bits
@@ -797,12 +784,7 @@ fn a_host_write_that_makes_a_header_of_a_word_drops_the_layout_proof() {
     m.write_ram_words(84, &[control(1), 0x9ABC]);
     m.write_ram_words(80, &header.to_words(v));
     assert_eq!(m.next_output_bound(), m.next_internal_event_at());
-    let own = sleep_on_promises(&mut m, t0);
-    assert!(
-        own.first()
-            .is_some_and(|s| *s < t0 + Duration::from_micros(250)),
-        "{own:?} after the MST at {t0:?}"
-    );
+    sends_in_the_cycle(&mut m, t0);
 }
 
 // 410B §4.2.1 PT, 816 §2.10.1.2 (the next header is read into NTH at the start of a telegram;
@@ -819,11 +801,6 @@ fn a_host_relinking_the_header_the_processor_holds_takes_the_layout_proof() {
     m.advance_to(t0 + Duration::from_micros(17));
     m.write_ram_words(50, &at2_header(true).to_words(v));
     assert_eq!(m.next_output_bound(), m.next_internal_event_at());
-    let own = sleep_on_promises(&mut m, t0);
     // The processor went on from AT 2 to 37 (its header as read): the third telegram.
-    assert!(
-        own.first()
-            .is_some_and(|s| *s < t0 + Duration::from_micros(250)),
-        "{own:?} after the MST at {t0:?}"
-    );
+    sends_in_the_cycle(&mut m, t0);
 }
