@@ -215,10 +215,28 @@ pub struct Simulation {
     replay_copy: bool,
     /// The run has faults (`propagate`: repeaters forward their copies themselves).
     faulty: bool,
+    /// For each fibre, the instants at which a fault cuts what enters it (a break's start
+    /// and repair, its node's power-off), sorted: a filler split from its telegram
+    /// (`splits_filler`) waits for these (`held_fillers`).
+    cuts: Vec<Vec<Instant>>,
+    /// Fillers split from their telegram held back at their fibre's entrance until a
+    /// fault that cuts the telegram has come (`Simulation::hold_filler`): the fibre, the
+    /// filler, its origin and the replay marks it was sent with (`replay_to`,
+    /// `replay_copy`).
+    held_fillers: Vec<HeldFiller>,
     /// The master's next output for any input (`Chip::next_output_for_any_input`), found
     /// once per pass of a telegram of the master (nothing reaches the master before the
     /// pass's last hop).
     master_next: Option<Option<Instant>>,
+}
+
+/// A filler held back at a fibre's entrance (`Simulation::held_fillers`).
+struct HeldFiller {
+    fibre: usize,
+    seg: LineSegment,
+    origin: usize,
+    replay_to: Option<usize>,
+    replay_copy: bool,
 }
 
 /// How a node's next wake is found.
@@ -359,6 +377,28 @@ impl Simulation {
         }
         let drifting = first_drifting(&nodes);
         let faulty = !cfg.faults.is_empty();
+        let mut cuts = vec![Vec::new(); n];
+        if ring {
+            for f in &cfg.faults {
+                match f.kind {
+                    FaultKind::FibreBreak { segment, until } => {
+                        if let Some(c) = cuts.get_mut(segment) {
+                            c.push(f.at);
+                            c.extend(until.map(|u| u.max(f.at)));
+                        }
+                    }
+                    FaultKind::PowerOff { node, .. } => {
+                        if let Some(c) = cuts.get_mut(node) {
+                            c.push(f.at);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            for c in &mut cuts {
+                c.sort_unstable();
+            }
+        }
         let mut sim = Simulation {
             out_floors: OutFloors::new(
                 n,
@@ -412,6 +452,8 @@ impl Simulation {
             replay_to: None,
             replay_copy: false,
             faulty,
+            cuts,
+            held_fillers: Vec::new(),
             master_next: None,
         };
         sim.start_hosts();
@@ -827,7 +869,11 @@ impl Simulation {
                 let (bits, filler) = seg.split_filler();
                 self.propagate(cur, bits, origin, true);
                 if let Some(f) = filler {
-                    self.propagate(cur, f, origin, true);
+                    if self.faulty && self.cut_before(cur, f.start) {
+                        self.hold_filler(cur, f, origin);
+                    } else {
+                        self.propagate(cur, f, origin, true);
+                    }
                 }
                 return;
             }
@@ -1030,6 +1076,62 @@ impl Simulation {
     /// fibre has faults, keeps what entered it or is traced.
     fn splits_filler(&self, k: usize) -> bool {
         self.segments.get(k).is_none_or(|s| !s.plain)
+    }
+
+    /// Whether a fault cuts what enters fibre `k` after now and before `end`
+    /// (`Simulation::cuts`).
+    fn cut_before(&self, k: usize, end: Instant) -> bool {
+        self.cuts
+            .get(k)
+            .is_some_and(|c| c.iter().any(|t| *t > self.now && *t < end))
+    }
+
+    /// Holds back a filler split from its telegram at the entrance of fibre `k` while a
+    /// fault that cuts the telegram is still to come (410B §1: each fibre carries one
+    /// signal, which a repeater regenerates and repeats; a break or a dark transmitter
+    /// ends it there, whole or not). Handed to the receiver ahead, the filler raised its
+    /// input floor to the telegram's end, so the dark of a break or a power-off inside the
+    /// telegram reached the receiver only from that end, and a repair's replay of the
+    /// telegram's rest not at all: the telegram got through whole, where the reference path
+    /// (whose chips put the filler out as its own segment at the telegram's end) cuts it.
+    /// It enters after that fault (`release_fillers`). Runs with faults only.
+    #[cold]
+    #[inline(never)]
+    fn hold_filler(&mut self, k: usize, seg: LineSegment, origin: usize) {
+        self.held_fillers.push(HeldFiller {
+            fibre: k,
+            seg,
+            origin,
+            replay_to: self.replay_to,
+            replay_copy: self.replay_copy,
+        });
+    }
+
+    /// After a fault on fibre `k` at the current instant: the fillers held back there
+    /// (`hold_filler`) enter it unless another cut comes before them; `dropped` (a
+    /// power-off of the node sending them): they never leave it.
+    fn release_fillers(&mut self, k: usize, dropped: bool) {
+        if !self.held_fillers.iter().any(|h| h.fibre == k) {
+            return;
+        }
+        let (mine, rest): (Vec<_>, Vec<_>) = std::mem::take(&mut self.held_fillers)
+            .into_iter()
+            .partition(|h| h.fibre == k);
+        self.held_fillers = rest;
+        if dropped {
+            return;
+        }
+        for h in mine {
+            if self.cut_before(k, h.seg.start) {
+                self.held_fillers.push(h);
+                continue;
+            }
+            let marks = (self.replay_to, self.replay_copy);
+            self.replay_to = h.replay_to;
+            self.replay_copy = h.replay_copy;
+            self.propagate(k, h.seg, h.origin, true);
+            (self.replay_to, self.replay_copy) = marks;
+        }
     }
 
     /// 410B Fig. 4: the bus carries own telegrams only; overlapping ones are garbled.
@@ -1442,6 +1544,7 @@ impl Simulation {
                     ..dark
                 };
                 self.propagate(segment, dark, segment, false);
+                self.release_fillers(segment, false);
             }
             FaultKind::PowerOff { node, .. } => {
                 // The others run up to `t` and put out what they send then; the node itself
@@ -1482,6 +1585,7 @@ impl Simulation {
                 let dark =
                     LineSegment::steady(t, self.bit_time_hint(node), LineSignal::Dark, false);
                 self.propagate(node, dark, node, true);
+                self.release_fillers(node, true);
             }
             FaultKind::ClockDrift { node, ppm } => {
                 self.advance_node(node, t);
@@ -1509,6 +1613,7 @@ impl Simulation {
                 for (seg, origin) in self.current_entering(segment, t, false) {
                     self.replay(segment, seg, origin, downstream);
                 }
+                self.release_fillers(segment, false);
             }
             FaultKind::PowerOff { node, .. } => {
                 let n_nodes = self.nodes.len();
