@@ -17,6 +17,18 @@ const REPON: u16 = 1 << 3;
 /// keeps an interrupt toggling cannot hang the simulation).
 pub(crate) const MAX_HOST_WAKES: usize = 64;
 
+/// A copy a repeater's chip is expected to release (`Node::expect`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct ExpectedCopy {
+    /// Its start at the repeater's output (local time).
+    pub(crate) at: Instant,
+    /// The node whose output it copies.
+    pub(crate) origin: usize,
+    /// A copy of a replay (a repair, a power-on): every receiver behind gets it, as it
+    /// gets the replay itself (`Simulation::propagate`).
+    pub(crate) replayed: bool,
+}
+
 /// One node of the ring.
 pub(crate) struct Node {
     pub(crate) cfg: NodeConfig,
@@ -35,9 +47,9 @@ pub(crate) struct Node {
     pub(crate) rewake: bool,
     /// The current wake is such a second wake (it earns no further one).
     pub(crate) rewaking: bool,
-    /// Exact path: the repeater's copies of what was delivered, not yet released: (local
-    /// start at the output, originating node), oldest first.
-    pub(crate) expect: std::collections::VecDeque<(Instant, usize)>,
+    /// Exact path: the repeater's copies of what was delivered, not yet released, oldest
+    /// first.
+    pub(crate) expect: std::collections::VecDeque<ExpectedCopy>,
     /// End of the last own telegram (local): the background resumes there.
     pub(crate) resume: Option<Instant>,
     /// The last segment on the output line (simulation time), when levels are followed.

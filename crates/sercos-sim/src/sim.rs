@@ -48,9 +48,6 @@ use wake_queue::WakeQueue;
 /// `Simulation::plain_hop` of a node a slave telegram does not pass by delays alone.
 const NOT_PLAIN: u64 = u64::MAX;
 
-/// Marks an origin in `Node::expect` as that of a replay's copy (`deliver_chip_forwards`).
-const REPLAYED: usize = 1 << (usize::BITS - 1);
-
 /// `Simulation::rewake_done` without a node.
 const NO_NODE: usize = usize::MAX;
 
@@ -102,7 +99,7 @@ struct Segment {
     /// The last segments that entered it (simulation time) and their origins, oldest
     /// first, at most [`KEPT_ENTERED`]: a power-on downstream replays every one that
     /// reaches the fresh receiver from its power-on on, a repair the one in effect.
-    last_entered: Vec<(LineSegment, usize)>,
+    last_entered: std::collections::VecDeque<(LineSegment, usize)>,
     /// Keep `last_entered` (a break's repair or a power-on downstream replays it).
     keep_last: bool,
     /// Nothing to do as a segment enters: no fault in the whole run, nothing kept, not
@@ -122,15 +119,15 @@ impl Segment {
     fn keep_entered(&mut self, seg: &LineSegment, origin: usize) {
         while self
             .last_entered
-            .last()
+            .back()
             .is_some_and(|(s, _)| s.start >= seg.start)
         {
-            self.last_entered.pop();
+            self.last_entered.pop_back();
         }
         if self.last_entered.len() >= KEPT_ENTERED {
-            self.last_entered.remove(0);
+            self.last_entered.pop_front();
         }
-        self.last_entered.push((seg.clone(), origin));
+        self.last_entered.push_back((seg.clone(), origin));
     }
 }
 
@@ -211,7 +208,7 @@ pub struct Simulation {
     /// gets a slave's signal too (see `propagate`).
     replay_to: Option<usize>,
     /// A repeater's chip is putting out its copy of a replay (`deliver_chip_forwards`,
-    /// [`REPLAYED`]): every receiver behind gets it, as it gets the replay itself.
+    /// [`ExpectedCopy::replayed`](crate::node::ExpectedCopy)): every receiver behind gets it, as it gets the replay itself.
     replay_copy: bool,
     /// The run has faults (`propagate`: repeaters forward their copies themselves).
     faulty: bool,
@@ -349,7 +346,7 @@ impl Simulation {
                 Segment {
                     delay: *d,
                     faults,
-                    last_entered: Vec::new(),
+                    last_entered: std::collections::VecDeque::new(),
                     keep_last,
                     plain,
                 }
@@ -794,19 +791,19 @@ impl Simulation {
         let Some(node) = self.nodes.get_mut(j) else {
             return;
         };
-        while node.expect.front().is_some_and(|(s, _)| *s < seg.start) {
+        while node.expect.front().is_some_and(|e| e.at < seg.start) {
             node.expect.pop_front();
         }
         let mut origin = j;
         // Exact path: a repeater's copy of what it received keeps its origin (the fast
         // path carries received segments itself, `propagate`; the chips release no copies).
         let mut replayed = false;
-        if let Some(&(s, o)) = node.expect.front()
-            && s == seg.start
+        if let Some(&e) = node.expect.front()
+            && e.at == seg.start
         {
             node.expect.pop_front();
-            origin = o & !REPLAYED;
-            replayed = o & REPLAYED != 0;
+            origin = e.origin;
+            replayed = e.replayed;
         }
         if matches!(seg.signal, LineSignal::Bits(_)) {
             // The chip's output after its own telegram is taken at the end of it, unless
@@ -822,9 +819,8 @@ impl Simulation {
         self.out_floors.set(j, floor);
         self.floor_written(j);
         if replayed {
-            self.replay_copy = true;
-            self.propagate(j, seg, origin, true);
-            self.replay_copy = false;
+            let replay_to = self.replay_to;
+            self.propagate_marked(j, seg, origin, (replay_to, true));
         } else {
             self.propagate(j, seg, origin, true);
         }
@@ -967,7 +963,7 @@ impl Simulation {
             // before the chip's own copies of what came just before (the dark of a
             // power-off at the same instant), which then followed and cut them (INT_FIBBR
             // at the master on the fast path only); its chip's copies reach every node
-            // behind as the replay does (`REPLAYED`, `deliver` above). A fault-free run
+            // behind as the replay does (`ExpectedCopy::replayed`, `deliver` above). A fault-free run
             // keeps every own output clear of the copies; so does a plain ring (no fibre
             // fault, no power window: clock drifts only, whose master's telegrams take
             // `propagate_master_plain`).
@@ -996,15 +992,15 @@ impl Simulation {
             node.chip.set_forward_output(true);
         }
         self.deliver(k, seg, origin, true);
-        let tag = if self.replay_to.is_some() || self.replay_copy {
-            origin | REPLAYED
-        } else {
-            origin
-        };
+        let replayed = self.replay_to.is_some() || self.replay_copy;
         if let Some(node) = self.nodes.get_mut(k) {
             node.chip.set_forward_output(false);
             let at = node.in_floor.saturating_add(lat);
-            node.expect.push_back((at, tag));
+            node.expect.push_back(crate::node::ExpectedCopy {
+                at,
+                origin,
+                replayed,
+            });
         }
         self.touch(k);
     }
@@ -1126,12 +1122,25 @@ impl Simulation {
                 self.held_fillers.push(h);
                 continue;
             }
-            let marks = (self.replay_to, self.replay_copy);
-            self.replay_to = h.replay_to;
-            self.replay_copy = h.replay_copy;
-            self.propagate(k, h.seg, h.origin, true);
-            (self.replay_to, self.replay_copy) = marks;
+            self.propagate_marked(k, h.seg, h.origin, (h.replay_to, h.replay_copy));
         }
+    }
+
+    /// [`Simulation::propagate`] of `seg` with the replay marks `(replay_to, replay_copy)`
+    /// in force (a replay's copy, a held filler of a replay), the marks before restored.
+    #[cold]
+    #[inline(never)]
+    fn propagate_marked(
+        &mut self,
+        k: usize,
+        seg: LineSegment,
+        origin: usize,
+        marks: (Option<usize>, bool),
+    ) {
+        let before = (self.replay_to, self.replay_copy);
+        (self.replay_to, self.replay_copy) = marks;
+        self.propagate(k, seg, origin, true);
+        (self.replay_to, self.replay_copy) = before;
     }
 
     /// 410B Fig. 4: the bus carries own telegrams only; overlapping ones are garbled.
@@ -1215,8 +1224,11 @@ impl Simulation {
         // path the chip releases none (`Chip::set_forward_output`).
         if repeating && self.delivery == Delivery::Exact {
             let lat = local.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
-            node.expect
-                .push_back((local.start.saturating_add(lat), origin));
+            node.expect.push_back(crate::node::ExpectedCopy {
+                at: local.start.saturating_add(lat),
+                origin,
+                replayed: false,
+            });
         }
         let ahead = local.start > node.chip.now();
         if local.start < node.chip.now() {
@@ -1746,7 +1758,7 @@ impl Simulation {
     fn bit_time_hint(&self, k: usize) -> Duration {
         self.segments
             .get(k)
-            .and_then(|s| s.last_entered.last())
+            .and_then(|s| s.last_entered.back())
             .map_or(Duration::ZERO, |(s, _)| s.bit_time)
     }
 }
@@ -1763,7 +1775,7 @@ fn general_wake(node: &Node, lookahead: Lookahead, exact: bool) -> Option<Instan
         node.chip.next_deadline()
     };
     let out = node.chip.next_line_output_at();
-    let expected = node.expect.front().map(|e| e.0);
+    let expected = node.expect.front().map(|e| e.at);
     let out = out.filter(|o| exact || Some(*o) != expected);
     match (own, out) {
         (Some(a), Some(b)) => Some(a.min(b)),
