@@ -62,7 +62,8 @@ pub(crate) struct Receiver {
 }
 
 /// The receiver as it was before it took an explicit filler segment starting at `at`
-/// whose first edge (at `first`) scheduled no FIBBR change.
+/// whose first edge scheduled no FIBBR change (the explicit counterpart of
+/// [`ImpliedFiller`], which also undoes what its filler scheduled).
 #[derive(Debug, Clone, Copy)]
 struct FillerBefore {
     at: Instant,
