@@ -1,5 +1,5 @@
 //! The receive log behind [`crate::Chip::take_rx_frames`]: the newest
-//! [`RX_LOG_FRAMES`](super::RX_LOG_FRAMES) frames. A logged frame keeps its bytes shared with
+//! [`RX_LOG_FRAMES`] frames. A logged frame keeps its bytes shared with
 //! the frame the receiver heard (for a telegram with a hint, the sender's own bytes), so
 //! logging copies nothing; a frame's own `Vec` is made only when the log is taken.
 
