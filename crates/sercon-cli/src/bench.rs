@@ -20,8 +20,8 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 200)]
     sim_ms: u64,
     /// Run only the scenario of this name (static rings: ring-8, ring-n8, ring-n32,
-    /// ring-n128, ring-254; full stack: stack-8, phaseup-8, stack-254, stack-n<n> for 1 to
-    /// 254 drives).
+    /// ring-n128, ring-254; full stack: stack-8, phaseup-8, stack-254, stack-nN for N = 1
+    /// to 254 drives).
     #[arg(long)]
     scenario: Option<String>,
     /// Which scenarios: the static ring's, the full stack's, or both.
