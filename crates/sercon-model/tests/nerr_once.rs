@@ -13,7 +13,7 @@ use sercon_model::Chip;
 use sercon_model::serial_port::LineSignal;
 use sercon_regs::ram::header::TxEnable;
 use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
-use sercos_wire::time::Duration;
+use sercos_wire::time::{Duration, Instant};
 
 /// ERRATA "telegram header marker bits": 10 is no structure (the processor stops there with
 /// a programming error, 410B §4.1 17H).
@@ -213,4 +213,92 @@ fn a_master_missing_its_at_counts_one_error_per_cycle() {
             );
         }
     }
+}
+
+/// 410B §4.1 3H.11 FLREC: "Receiving telegram".
+const FLREC: u16 = 1 << 11;
+
+/// The one-word MDT at 19 µs, coded as a transmitter codes it from a dark line (the light
+/// levels decode from `level_before`, as a receiver's decoder reads them).
+fn mdt_at_19() -> sercon_model::serial_port::LineSegment {
+    use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity};
+    let mut seg = common::hinted_frame(us(19), &[255, 0x34, 0x12]);
+    let mut enc = Encoder::new(LineConfig::new(Coding::Nrzi, Polarity::LightOnHigh));
+    let mut bits = BitVec::new();
+    enc.encode(&[255, 0x34, 0x12], &mut bits)
+        .expect("encodable");
+    seg.signal = LineSignal::Bits(sercon_model::serial_port::Shared::new(bits));
+    seg
+}
+
+/// [`slave`] (TRT 5, TCHK) given an MST at 10 µs and a one-word MDT at 19 µs, advanced to
+/// `before` µs; then the line from bit `cut` of the MDT on is `after` light levels (the RS-485
+/// bus's second driver, spec-notes "RS-485 bus"); run to 40 µs. Returns the chip, whether
+/// FLREC was set before the cut, and the frames it logged.
+fn cut_mdt(
+    before: u64,
+    cut: u64,
+    after: &[bool],
+) -> (Chip, bool, Vec<sercon_model::serial_port::RxFrame>) {
+    use sercon_model::serial_port::LineSegment;
+    use sercos_wire::line::BitVec;
+    let mut s = slave(5, true, false);
+    s.line_input(common::hinted_frame(us(10), &[255, 4]));
+    let mdt = mdt_at_19();
+    let bt = mdt.bit_time;
+    s.line_input(mdt.clone());
+    s.advance_to(Instant::ZERO + Duration::from_nanos(before * 1000));
+    let receiving = s.read(Register::Ctrl3) & FLREC != 0;
+    let at = mdt.start + bt.saturating_mul(cut);
+    let mut bits = BitVec::new();
+    for b in after {
+        bits.push(*b);
+    }
+    s.line_input(LineSegment::bits(at, bt, bits, mdt.level_at(at)));
+    s.advance_to(us(40));
+    let mut frames = Vec::new();
+    s.take_rx_frames(&mut frames);
+    (s, receiving, frames)
+}
+
+// 410B §4.2.1 RERR, NERR; spec-notes "RS-485 bus": a telegram whose line is garbled from a
+// bit on (a second driver) is the frame the garbled line makes, whether the chip had taken
+// its start (FLREC set) or not: an error, counted once, no data stored, and the intact frame
+// it was first given is no longer in the receive log.
+#[test]
+fn a_telegram_cut_inside_on_its_bit_grid_is_the_frame_the_line_then_shows() {
+    // 24 bit times of one level: no edge, an HDLC abort.
+    let steady = |level: bool| vec![level; 24];
+    for before in [18u64, 19, 20] {
+        for cut in [0u64, 9, 30, 45] {
+            let mdt = mdt_at_19();
+            let level = mdt.level_at(mdt.start + mdt.bit_time.saturating_mul(cut));
+            let (mut s, receiving, frames) = cut_mdt(before, cut, &steady(level));
+            let name = format!("advanced to {before} µs, cut at bit {cut}");
+            // From 19 µs on the chip took the MDT's start before its cut (FLREC).
+            assert_eq!(receiving, before >= 19, "{name}");
+            let w0 = s.read_ram(MDT_HDR);
+            assert_ne!(w0 & (1 << 13), 0, "{name}: RERR");
+            assert_eq!(s.read_ram(MDT_HDR + 4), 1, "{name}: NERR");
+            assert_eq!(s.read_ram(23), 0, "{name}: no data");
+            let mdts: Vec<_> = frames.iter().filter(|f| f.start == mdt.start).collect();
+            assert!(mdts.iter().all(|f| !f.fcs_ok), "{name}: {frames:?}");
+            assert!(mdts.len() <= 1, "{name}: {frames:?}");
+        }
+    }
+    // The line going on as the telegram did (its own bits from the cut on) is the telegram.
+    let mdt = mdt_at_19();
+    let LineSignal::Bits(b) = &mdt.signal else {
+        panic!("bits")
+    };
+    let rest: Vec<bool> = b.bits().iter().skip(30).collect();
+    let (mut s, receiving, frames) = cut_mdt(20, 30, &rest);
+    assert!(receiving);
+    assert_eq!(s.read_ram(MDT_HDR + 4), 0, "NERR {frames:?}");
+    assert_eq!(s.read_ram(23), 0x1234, "the data");
+    let mdts: Vec<_> = frames.iter().filter(|f| f.start == mdt.start).collect();
+    assert!(
+        mdts.len() == 1 && mdts.iter().all(|f| f.fcs_ok),
+        "{frames:?}"
+    );
 }

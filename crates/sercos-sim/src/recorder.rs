@@ -8,7 +8,7 @@ use std::collections::BinaryHeap;
 use sercon_model::pins::PinEvent;
 use sercon_model::serial_port::{LineSegment, LineSignal, Shared};
 use sercon_model::vcd_trace::{Timescale, TracedChip, write_vcd};
-use sercos_wire::line::{Coding, Decoded, Decoder, LineConfig, LineError, Polarity};
+use sercos_wire::line::{BitVec, Coding, Decoded, Decoder, LineConfig, LineError, Polarity};
 use sercos_wire::telegram::Origin;
 use sercos_wire::time::{BitRate, Instant};
 
@@ -84,6 +84,9 @@ pub(crate) struct Recorder {
     records: u64,
     /// Per traced chip: header and events (simulation time).
     vcd: Vec<(TracedChip, Vec<PinEvent>)>,
+    /// Records from this instant (ps) on are kept even once simulated time has passed them:
+    /// the RS-485 bus may still garble them ([`Recorder::hold_from`]).
+    hold: u64,
 }
 
 impl Recorder {
@@ -106,6 +109,7 @@ impl Recorder {
             seq: 0,
             records: 0,
             vcd: Vec::new(),
+            hold: u64::MAX,
         })
     }
 
@@ -160,23 +164,47 @@ impl Recorder {
             );
             return;
         }
-        // 410B §1 NRZI line: decode what the bits say (a fault changed them).
-        let polarity = if seg.level_before {
-            Polarity::LightOnLow
-        } else {
-            Polarity::LightOnHigh
-        };
-        let mut dec = Decoder::new(LineConfig::new(Coding::Nrzi, polarity));
-        let mut found = Vec::new();
-        dec.push(bits.bits(), |d| {
-            let what = match d {
-                Decoded::Telegram(f) => What::Telegram(Shared::from(f.bytes)),
-                Decoded::Error { error, received } => What::Error(error, received.to_vec()),
-            };
-            found.push((d.start(), what));
-        });
-        for (pos, what) in found {
+        for (pos, what) in decode_bits(seg.level_before, bits) {
             self.push(at(pos), segment, origin, bit_rate, what);
+        }
+    }
+
+    /// Keeps the records from `t` on (and every later one) until [`Recorder::hold_from`]
+    /// moves on: the RS-485 bus's current transmission may still be garbled by another
+    /// driver, and its records then replaced ([`Recorder::observe_again`]).
+    pub(crate) fn hold_from(&mut self, t: Instant) {
+        self.hold = t.as_picos();
+    }
+
+    /// Replaces the records of `segment` from `seg`'s start on (held, [`Recorder::hold_from`])
+    /// by what `seg`'s bits decode to, each with the origin `origin_at` gives for its start:
+    /// the line of the RS-485 bus since its transmission began, garbled by a second driver.
+    #[cold]
+    pub(crate) fn observe_again(
+        &mut self,
+        segment: usize,
+        seg: &LineSegment,
+        origin_at: impl Fn(Instant) -> Origin,
+    ) {
+        if !self.wants(segment) {
+            return;
+        }
+        let (Ok(id), LineSignal::Bits(bits)) = (u16::try_from(segment), &seg.signal) else {
+            return;
+        };
+        let from = seg.start.as_picos();
+        let kept: Vec<Reverse<Pending>> = std::mem::take(&mut self.pending)
+            .into_vec()
+            .into_iter()
+            .filter(|Reverse(p)| p.segment != id || p.time < from)
+            .collect();
+        self.pending = kept.into();
+        let bit_rate = BitRate::ALL
+            .into_iter()
+            .find(|r| r.bit_time() == seg.bit_time);
+        for (pos, what) in decode_bits(seg.level_before, bits) {
+            let t = seg.start.saturating_add(seg.bit_time.saturating_mul(pos));
+            self.push(t.as_picos(), id, origin_at(t), bit_rate, what);
         }
     }
 
@@ -203,20 +231,21 @@ impl Recorder {
     #[inline(always)]
     pub(crate) fn flush_before(&mut self, now: Instant) -> Result<(), SimError> {
         // Called after every event: the usual answer (nothing due) without a call.
+        let bound = now.as_picos().min(self.hold);
         if self
             .pending
             .peek()
-            .is_none_or(|Reverse(top)| top.time >= now.as_picos())
+            .is_none_or(|Reverse(top)| top.time >= bound)
         {
             return Ok(());
         }
-        self.flush_due(now)
+        self.flush_due(bound)
     }
 
-    /// [`Recorder::flush_before`] when something is due.
-    fn flush_due(&mut self, now: Instant) -> Result<(), SimError> {
+    /// [`Recorder::flush_before`] when something is due: the records before `bound` (ps).
+    fn flush_due(&mut self, bound: u64) -> Result<(), SimError> {
         while let Some(Reverse(top)) = self.pending.peek() {
-            if top.time >= now.as_picos() {
+            if top.time >= bound {
                 break;
             }
             let Some(Reverse(p)) = self.pending.pop() else {
@@ -261,7 +290,7 @@ impl Recorder {
 
     /// Writes everything and hands the traces over.
     pub(crate) fn finish(mut self, end: Instant) -> Result<TraceOutput, SimError> {
-        self.flush_before(Instant::MAX)?;
+        self.flush_due(u64::MAX)?;
         let mut out = TraceOutput {
             records: self.records,
             hash: self.hasher.take().map(TraceHasher::finish),
@@ -285,6 +314,26 @@ impl Recorder {
         }
         Ok(out)
     }
+}
+
+/// What an explicit bit segment holds (410B §1 NRZI line, light levels from
+/// `level_before`): each telegram or frame in error with the bit position of its start.
+fn decode_bits(level_before: bool, bits: &BitVec) -> Vec<(u64, What)> {
+    let polarity = if level_before {
+        Polarity::LightOnLow
+    } else {
+        Polarity::LightOnHigh
+    };
+    let mut dec = Decoder::new(LineConfig::new(Coding::Nrzi, polarity));
+    let mut found = Vec::new();
+    dec.push(bits.bits(), |d| {
+        let what = match d {
+            Decoded::Telegram(f) => What::Telegram(Shared::from(f.bytes)),
+            Decoded::Error { error, received } => What::Error(error, received.to_vec()),
+        };
+        found.push((d.start(), what));
+    });
+    found
 }
 
 /// The log formats, for callers that name them.

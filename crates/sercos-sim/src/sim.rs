@@ -9,10 +9,9 @@
 //! (`Delivery::Exact`): every repeater's output is taken from its chip, hop by hop.
 
 use sercon_model::pins::{PinEvent, PinSet};
-use sercon_model::serial_port::{LineSegment, LineSignal, REPEATER_LATENCY_BITS, Shared};
+use sercon_model::serial_port::{LineSegment, LineSignal, REPEATER_LATENCY_BITS};
 use sercon_model::vcd_trace::TracedChip;
 use sercon_model::{Chip, ChipConfig};
-use sercos_wire::line::BitVec;
 use sercos_wire::telegram::Origin;
 use sercos_wire::time::{Duration, Instant};
 
@@ -25,6 +24,7 @@ use crate::node::{Node, repeats};
 use crate::recorder::{Recorder, TraceOutput};
 use crate::topology::Topology;
 
+mod bus;
 mod early_route;
 mod host_run;
 #[cfg(test)]
@@ -154,6 +154,8 @@ pub struct Simulation {
     buf: Vec<LineSegment>,
     pins: Vec<PinEvent>,
     bus_busy_until: Instant,
+    /// The bus's line since its current transmission began (`bus`).
+    bus_line: Option<bus::BusLine>,
     now: Instant,
     lookahead: Lookahead,
     /// How far each node's output line is taken (simulation time), dense for the hop loop.
@@ -434,6 +436,7 @@ impl Simulation {
             buf: Vec::new(),
             pins: Vec::new(),
             bus_busy_until: Instant::ZERO,
+            bus_line: None,
             now: Instant::ZERO,
             lookahead: Lookahead::default(),
             host_nesting: 0,
@@ -1141,56 +1144,6 @@ impl Simulation {
         (self.replay_to, self.replay_copy) = marks;
         self.propagate(k, seg, origin, true);
         (self.replay_to, self.replay_copy) = before;
-    }
-
-    /// 410B Fig. 4: the bus carries own telegrams only; overlapping ones are garbled.
-    fn propagate_bus(&mut self, seg: LineSegment, origin: usize) {
-        // Only the telegram: the bus carries no filler.
-        let (seg, _) = seg.split_filler();
-        let LineSignal::Bits(bits) = &seg.signal else {
-            return;
-        };
-        let Some(s) = self.segments.get_mut(0) else {
-            return;
-        };
-        if s.keep_last {
-            s.keep_entered(&seg, origin);
-        }
-        if s.faults.broken_at(seg.start) {
-            return;
-        }
-        let end = seg.end().unwrap_or(seg.start);
-        let mut seg = if seg.start < self.bus_busy_until {
-            // Two drivers at once: the levels fight; what receivers see is not the
-            // telegram (every other bit inverted), without hint.
-            self.stats.collisions += 1;
-            let mut g = BitVec::with_capacity(usize::try_from(bits.len()).unwrap_or(0));
-            // The opening flag still gets through, so receivers see a broken frame.
-            let keep = seg.hint.as_ref().map_or(0, |h| h.offset) + 8;
-            for (i, b) in bits.bits().iter().enumerate() {
-                g.push(b ^ (i as u64 >= keep && i % 2 == 1));
-            }
-            LineSegment {
-                signal: LineSignal::Bits(Shared::new(g)),
-                hint: None,
-                ..seg
-            }
-        } else {
-            seg
-        };
-        self.bus_busy_until = self.bus_busy_until.max(end);
-        let Some(s) = self.segments.get_mut(0) else {
-            return;
-        };
-        seg = s.faults.apply(seg);
-        let delay = s.delay;
-        self.recorder.observe(0, &seg, origin_of(origin));
-        seg.start = seg.start.saturating_add(delay);
-        for i in 0..self.nodes.len() {
-            if self.nodes.get(i).is_some_and(|n| n.powered_at(seg.start)) {
-                self.deliver(i, seg.clone(), origin, false);
-            }
-        }
     }
 
     /// Hands `local` (given in simulation time, taken to the node's time here) to node `j`'s

@@ -1,7 +1,7 @@
 //! The RS-485 bus of 410B §1 Fig. 4: every node hears every transmitter after the bus delay;
-//! overlapping transmissions are garbled and reported (`SimStats::collisions`, the telegram
-//! log, 410B §4.2.1 RERR/NERR at the receivers); transmissions that only touch are received
-//! intact; `Delivery::Fast` and `Delivery::Exact` agree; any slave count runs.
+//! overlapping transmissions are garbled, both of them, and reported (`SimStats::collisions`,
+//! the telegram log, 410B §4.2.1 RERR/NERR at the receivers); transmissions that only touch
+//! are received intact; `Delivery::Fast` and `Delivery::Exact` agree; any slave count runs.
 
 mod ring_support;
 
@@ -39,10 +39,10 @@ fn run_bus(
     (sim, parse_log(&out.log), plan, out.log)
 }
 
-/// AT starts of slave `s` on the bus (ps).
+/// Starts of slave `s`'s ATs received intact on the bus (ps).
 fn at_starts(log: &[Line], s: u8) -> Vec<u64> {
     log.iter()
-        .filter(|l| !l.master && l.kind == "AT" && l.adr == Some(s))
+        .filter(|l| !l.master && l.ok && l.kind == "AT" && l.adr == Some(s))
         .map(|l| l.ps)
         .collect()
 }
@@ -114,71 +114,101 @@ fn overlap_run(
 const BIT_PS: u64 = 62_500;
 
 /// Slave 2's AT `d_us` after slave 1's planned one, its MCLK off by `ppm`.
+#[derive(Debug, Clone, Copy)]
 struct Case {
     d_us: u16,
     ppm: f64,
 }
 
-/// Runs the case and checks what the later telegram and the counters show; returns, per
-/// cycle, slave 2's AT start after slave 1's (ps) and whether it collided.
-fn check_case(c: &Case, overlap: bool) -> Vec<(i64, bool)> {
-    let (mut sim, log, plan, _) = overlap_run(c.d_us, c.ppm, Delivery::Fast);
-    let name = format!("d {} µs, {} ppm", c.d_us, c.ppm);
-    // Slave 1's AT starts every cycle; slave 2's is in the log as AT 2 or, garbled, as a
-    // line error (no address).
-    let a = at_starts(&log, 1);
-    assert_eq!(a.len(), usize::from(CYCLES), "{name}");
-    let cycle = 250_000_000u64;
-    let mut per_cycle = Vec::new();
-    for (k, s1) in a.iter().enumerate() {
-        let later: Vec<&Line> = log
-            .iter()
-            .filter(|l| !l.master && l.ps / cycle == k as u64 && l.adr != Some(1))
-            .collect();
-        assert_eq!(later.len(), 1, "{name}: cycle {k}");
-        let d = i64::try_from(later[0].ps).expect("fits") - i64::try_from(*s1).expect("fits");
-        per_cycle.push((d, !later[0].ok));
-    }
-    let garbled = per_cycle.iter().filter(|p| p.1).count();
-    // Reported: one collision per garbled telegram, a line error in the log for each.
-    assert_eq!(sim.stats().collisions, garbled as u64, "{name}");
-    assert_eq!(log.iter().filter(|l| !l.ok).count(), garbled, "{name}");
-    let m = sim.chip_mut(0).expect("master");
-    let h2 = rx_header(m, plan.master_at_header[1]);
-    let h1 = rx_header(m, plan.master_at_header[0]);
-    // The later telegram (slave 2's) never reaches the master's buffer when garbled: NERR
-    // counts it, once per cycle (410B §4.2.1).
-    assert_eq!(usize::from(h2.nerr), garbled, "{name}: {h2:?}");
-    if overlap {
-        assert!(garbled > 0, "{name}");
-    } else {
-        assert_eq!(garbled, 0, "{name}");
-        assert!(!h1.rerr && h1.nerr == 0 && h1.val, "{name}: AT 1 {h1:?}");
-        assert!(!h2.rerr && h2.val, "{name}: AT 2 {h2:?}");
-    }
-    for s in 1..=2 {
-        let at = plan.master_at_data[s - 1].expect("stored");
-        let v = m.read_ram(at);
-        if s == 2 && garbled == usize::from(CYCLES) {
-            assert!(h2.rerr, "{name}");
-            assert_eq!(v, 0, "{name}: AT 2 data");
-        } else if garbled == 0 {
-            assert_eq!(v, at_pattern(s, 0), "{name}: AT {s} data");
-        }
-    }
-    per_cycle
+/// What a case showed: per cycle, which of the two ATs the log has intact and, when both,
+/// slave 2's start after slave 1's (ps); and the collisions reported.
+struct Outcome {
+    cycles: Vec<([bool; 2], Option<i64>)>,
+    collisions: u64,
 }
 
-/// Finds, by bisection on slave 2's clock error at `d_us`, the last colliding and the first
-/// clean case around the end of slave 1's AT.
-fn boundary(d_us: u16) -> (Case, Case) {
-    // A negative error makes slave 2's clock slow: its AT comes later.
+impl Outcome {
+    /// Cycles in which neither AT was received.
+    fn garbled(&self) -> usize {
+        self.cycles.iter().filter(|c| c.0 == [false, false]).count()
+    }
+
+    /// Whether every cycle has both ATs.
+    fn whole(&self) -> bool {
+        self.cycles.iter().all(|c| c.0 == [true, true])
+    }
+
+    /// Slave 2's start after slave 1's in the cycles that have both.
+    fn offsets(&self) -> Vec<i64> {
+        self.cycles.iter().filter_map(|c| c.1).collect()
+    }
+}
+
+/// Runs the case and checks that the master's view is the line's (410B §4.2.1: NERR counts
+/// every cycle whose AT the log does not have intact, RERR the last one, the data are those
+/// of the last AT received) and that every cycle with a garbled AT counts a collision.
+fn check_case(c: &Case) -> Outcome {
+    let (mut sim, log, plan, _) = overlap_run(c.d_us, c.ppm, Delivery::Fast);
+    let name = format!("d {} µs, {} ppm", c.d_us, c.ppm);
+    let cycle = 250_000_000u64;
+    let mut cycles = Vec::new();
+    for k in 0..u64::from(CYCLES) {
+        let in_cycle: Vec<&Line> = log
+            .iter()
+            .filter(|l| !l.master && l.ps / cycle == k)
+            .collect();
+        let start = |s: u8| {
+            let v: Vec<u64> = at_starts(&log, s)
+                .into_iter()
+                .filter(|t| t / cycle == k)
+                .collect();
+            assert!(v.len() <= 1, "{name}: cycle {k}");
+            v.first().copied()
+        };
+        let (a, b) = (start(1), start(2));
+        let errors = in_cycle.iter().filter(|l| !l.ok).count();
+        assert_eq!(errors == 0, a.is_some() && b.is_some(), "{name}: cycle {k}");
+        let offset = a
+            .zip(b)
+            .map(|(a, b)| i64::try_from(b).expect("fits") - i64::try_from(a).expect("fits"));
+        cycles.push(([a.is_some(), b.is_some()], offset));
+    }
+    let out = Outcome {
+        cycles,
+        collisions: sim.stats().collisions,
+    };
+    let hit = out.cycles.iter().filter(|c| c.0 != [true, true]).count();
+    assert!(out.collisions >= hit as u64, "{name}");
+    let m = sim.chip_mut(0).expect("master");
+    for s in 1..=2 {
+        let h = rx_header(m, plan.master_at_header[s - 1]);
+        let missed = out.cycles.iter().filter(|c| !c.0[s - 1]).count();
+        let last = out.cycles.last().is_some_and(|c| c.0[s - 1]);
+        assert_eq!(usize::from(h.nerr), missed, "{name}: AT {s} {h:?}");
+        assert_eq!(h.rerr, !last, "{name}: AT {s} {h:?}");
+        let at = plan.master_at_data[s - 1].expect("stored");
+        let want = if missed < usize::from(CYCLES) {
+            at_pattern(s, 0)
+        } else {
+            0
+        };
+        assert_eq!(m.read_ram(at), want, "{name}: AT {s} data");
+    }
+    out
+}
+
+/// Finds, by bisection on slave 2's clock error at `d_us` (slow: its AT later), the last
+/// case where `before` holds and the first where it does not.
+fn boundary(d_us: u16, before: impl Fn(&Simulation, &[Line]) -> bool) -> (Case, Case) {
     let (mut lo, mut hi) = (0.0f64, -20_000.0f64);
-    let collides = |p: f64| overlap_run(d_us, p, Delivery::Fast).0.stats().collisions > 0;
-    assert!(collides(lo) && !collides(hi), "bracket at {d_us} µs");
+    let holds = |p: f64| {
+        let (sim, log, _, _) = overlap_run(d_us, p, Delivery::Fast);
+        before(&sim, &log)
+    };
+    assert!(holds(lo) && !holds(hi), "bracket at {d_us} µs");
     for _ in 0..40 {
         let mid = (lo + hi) / 2.0;
-        if collides(mid) {
+        if holds(mid) {
             lo = mid;
         } else {
             hi = mid;
@@ -187,41 +217,65 @@ fn boundary(d_us: u16) -> (Case, Case) {
     (Case { d_us, ppm: lo }, Case { d_us, ppm: hi })
 }
 
+// 410B §1 Fig. 4 (RS-485 bus); spec-notes "RS-485 bus": a telegram starting while another is
+// on the bus garbles both from the first whole bit they share; a start within the other's
+// last bit, or an overlap within the later one's sync word where the levels agree, is
+// reported but garbles nothing; telegrams that only touch are clean.
 #[test]
 fn overlapping_transmissions_are_garbled_and_reported_touching_ones_are_not() {
-    // Whole (same start), at the start, in the middle, near the end of slave 1's AT.
-    for d in [0u16, 1, 3, 6, 9, 10] {
-        check_case(&Case { d_us: d, ppm: 0.0 }, true);
+    let cycles = usize::from(CYCLES);
+    // Whole (same start), at the start, in the middle, near the end of slave 1's AT: every
+    // cycle garbled, both ATs lost, each collision reported.
+    for d in [0u16, 1, 3, 6, 9] {
+        let o = check_case(&Case { d_us: d, ppm: 0.0 });
+        assert_eq!(
+            (o.garbled(), o.collisions),
+            (cycles, CYCLES.into()),
+            "d {d}"
+        );
     }
-    // The end of slave 1's AT lies between 10 and 14 µs after its start.
-    let d = (9..14)
+    // 10 µs: slave 2's sync word meets slave 1's closing flag only: reported, both received.
+    let o = check_case(&Case { d_us: 10, ppm: 0.0 });
+    assert!(o.whole() && o.collisions == u64::from(CYCLES));
+    // Where garbling ends: the last case with a garbled cycle and the first without one
+    // are both reported in every cycle.
+    let garbled = |_: &Simulation, log: &[Line]| log.iter().any(|l| !l.ok);
+    let (last_garbled, first_whole) = boundary(9, garbled);
+    let o = check_case(&last_garbled);
+    assert!(o.cycles.iter().any(|c| c.0 != [true, true]));
+    assert_eq!(o.collisions, u64::from(CYCLES));
+    let o = check_case(&first_whole);
+    assert!(o.whole() && o.collisions == u64::from(CYCLES));
+    // Where overlapping ends (slave 1's AT ends between 10 and 14 µs after its start).
+    let d = (10..14)
         .find(|&d| overlap_run(d + 1, 0.0, Delivery::Fast).0.stats().collisions == 0)
         .expect("a clean offset");
-    let (last, first) = boundary(d);
-    let mut seen = check_case(&last, true);
-    seen.extend(check_case(&first, false));
+    let collides = |sim: &Simulation, _: &[Line]| sim.stats().collisions > 0;
+    let (last, first) = boundary(d, collides);
+    let (last, first) = (check_case(&last), check_case(&first));
+    assert!(last.whole() && first.whole() && last.collisions > 0 && first.collisions == 0);
     // Per cycle (the chips start on their own clock edges, so the offset varies a little):
-    // every garbled telegram started before every clean one, and the last garbled start
-    // and the first clean one are less than a bit apart (the end of slave 1's AT: an overlap
-    // of less than one bit is garbled, a telegram touching the end is not).
-    let max_garbled = seen
+    // the reported cycles are the earliest starts, none after a clean one, less than a bit
+    // apart (an overlap of less than one bit is reported, a telegram touching the end is
+    // not; a reported telegram joins the line's bit grid, up to a bit later, so it may log
+    // the start of the first clean one).
+    let mut all = last.offsets();
+    all.sort_unstable();
+    let n = usize::try_from(last.collisions).expect("fits");
+    let max_reported = all[n - 1];
+    let min_clean = all[n..]
         .iter()
-        .filter(|p| p.1)
-        .map(|p| p.0)
-        .max()
-        .expect("garbled");
-    let min_clean = seen
-        .iter()
-        .filter(|p| !p.1)
-        .map(|p| p.0)
+        .chain(&first.offsets())
+        .copied()
         .min()
         .expect("clean");
     assert!(
-        max_garbled < min_clean && min_clean - max_garbled < i64::try_from(BIT_PS).expect("fits"),
-        "{max_garbled} {min_clean}"
+        max_reported <= min_clean && min_clean - all[0] < i64::try_from(BIT_PS).expect("fits"),
+        "{max_reported} {min_clean}"
     );
     // Well apart.
-    check_case(&Case { d_us: 20, ppm: 0.0 }, false);
+    let o = check_case(&Case { d_us: 20, ppm: 0.0 });
+    assert!(o.whole() && o.collisions == 0);
 }
 
 /// Every node's RAM and status registers.

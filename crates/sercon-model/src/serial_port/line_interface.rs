@@ -44,7 +44,7 @@ impl Chip {
             &mut self.tp,
             &self.out_bound,
         );
-        self.serial.line_input(seg, |f| {
+        let retracted = self.serial.line_input(seg, |f| {
             if crate::telegram_processor::frame_is_mst(&f.bytes) {
                 // A slave's block starts with the MST it receives (410B §4.2.1 TRT):
                 // the output bound is found afresh.
@@ -62,6 +62,10 @@ impl Chip {
             }
             tp.on_rx_frame(tick, f);
         });
+        if let Some(start) = retracted {
+            crate::telegram_processor::take_back_frame(self, start);
+            quiet = false;
+        }
         // The engine's pin levels (INT0/1, CONCLK, DIVCLK, WDOGN) do not depend on the
         // receiver or on queued frames: a line input changes none of them at once (its
         // status changes and interrupts follow in `advance_to`), so they are not recomputed.

@@ -211,8 +211,15 @@ impl SerialPort {
     }
 
     /// Receives one segment of the line input; each frame it completes goes to the log and
-    /// then to `frames`, in order.
-    pub(crate) fn line_input<F: FnMut(HeardFrame)>(&mut self, seg: LineSegment, mut frames: F) {
+    /// then to `frames`, in order. Returns the start of a frame reported before that the
+    /// segment took back (it cut the telegram inside, `Receiver::take_retracted`): the frame
+    /// with that start reported now replaces it; the log keeps the new one only.
+    #[must_use]
+    pub(crate) fn line_input<F: FnMut(HeardFrame)>(
+        &mut self,
+        seg: LineSegment,
+        mut frames: F,
+    ) -> Option<Instant> {
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
         let fwd = (self.cfg.tx_mode == TxMode::Repeat).then(|| {
             if self.tx.carried_forwarding {
@@ -245,6 +252,12 @@ impl SerialPort {
         if !short || self.events.pins_loud() {
             self.refresh_loud();
         }
+        if short {
+            return None;
+        }
+        let (retracted, replaced) = self.rx.take_retracted()?;
+        self.rx_log.retract(retracted, replaced);
+        Some(retracted)
     }
 
     /// Queues an own telegram at `at`; returns when its last bit leaves, `None` when nothing

@@ -26,6 +26,10 @@ struct Running {
     bit_time: Duration,
     /// Where the next contiguous segment would start.
     next_start: Instant,
+    /// Set when this decoder took up a telegram cut inside by the next segment
+    /// ([`Receiver::resume_cut`]): frames starting before this instant had their REACTN
+    /// fall scheduled already.
+    resumed_at: Option<Instant>,
 }
 
 /// The receiver's state.
@@ -59,6 +63,10 @@ pub(crate) struct Receiver {
     /// changes ([`Receiver::compute_ready`]): where the implied filler running starts and the
     /// bit time of the segment it follows, when the receiver is in that state.
     ready: Option<(Instant, Duration)>,
+    /// The start of a frame reported earlier that the last input took back
+    /// ([`Receiver::resume_cut`]; [`Receiver::take_retracted`]), and whether the frame with
+    /// that start that replaces it has been reported since.
+    retracted: Option<(Instant, bool)>,
 }
 
 /// The receiver as it was before it took an explicit filler segment starting at `at`
@@ -432,12 +440,17 @@ impl Receiver {
         if let Some(end) = self.last.as_ref().and_then(LineSegment::end)
             && end > seg.start
         {
-            // A collision: the new segment cuts the previous one; what the receiver made of
-            // the cut part is void (frames already reported stay reported).
+            // A collision: the new segment cuts the previous one. A coded telegram cut on its
+            // own bit grid is decoded on from the cut (`resume_cut`: the line shows its bits
+            // up to there, then the new ones); otherwise what the receiver made of the cut
+            // part is void (frames already reported stay reported).
+            let resumed = self.resume_cut(&seg, cfg);
             events.cancel_receive_from(seg.start);
-            self.running = None;
             self.fibbr_future = events.last_fibbr().unwrap_or(self.fibbr_future);
-            events.push(seg.start, Change::Reactn(true));
+            if !resumed {
+                self.running = None;
+                events.push(seg.start, Change::Reactn(true));
+            }
         }
         if self.open_filler {
             // The filler's last edge before this segment (an implied filler starts where
@@ -580,6 +593,7 @@ impl Receiver {
                 base: seg.start,
                 bit_time: seg.bit_time,
                 next_start: seg.start,
+                resumed_at: None,
             }));
         }
         let Some(run) = self.running.as_mut() else {
@@ -606,9 +620,91 @@ impl Receiver {
             found.push(frame);
         });
         run.next_start = seg.end().unwrap_or(seg.start);
+        let resumed_at = run.resumed_at;
         for f in found {
-            deliver(f, bt, events, frames);
+            if resumed_at.is_some_and(|c| f.start < c) {
+                // The telegram taken up at a cut (`resume_cut`): its REACTN fall was
+                // scheduled when it first came (410B §2 REACTN); only its end is new.
+                events.push(f.end, Change::Reactn(true));
+                if let Some(r) = self.retracted.as_mut()
+                    && r.0 == f.start
+                {
+                    r.1 = true;
+                }
+                frames(f);
+            } else {
+                deliver(f, bt, events, frames);
+            }
         }
+    }
+
+    /// The start of the frame the last input took back, if it took one back, and whether
+    /// that input reported the frame that replaces it (the frame the line showed for the
+    /// telegram it cut, [`Receiver::resume_cut`]; not yet reported while that telegram's
+    /// frame goes on).
+    pub(crate) fn take_retracted(&mut self) -> Option<(Instant, bool)> {
+        self.retracted.take()
+    }
+
+    /// `seg` starts inside the last segment. When that one was a coded telegram taken
+    /// whole ([`LineSegment::hint`], NRZI at the receiver's bit rate, no decoder running)
+    /// and `seg` is bits on its bit grid, the line showed the telegram's bits up to
+    /// `seg`'s start and `seg`'s from there (the RS-485 bus of 410B Fig. 4, where a second
+    /// driver garbles a telegram in progress): the decoder is set up as it stood at the cut,
+    /// so that `seg` continues the telegram, and the telegram's frame reported earlier is
+    /// taken back ([`Receiver::take_retracted`]). Returns whether it did so.
+    #[cold]
+    #[inline(never)]
+    fn resume_cut(&mut self, seg: &LineSegment, cfg: &PortConfig) -> bool {
+        let Some(last) = self.last.as_ref() else {
+            return false;
+        };
+        let (LineSignal::Bits(bits), LineSignal::Bits(_), Some(hint)) =
+            (&last.signal, &seg.signal, &last.hint)
+        else {
+            return false;
+        };
+        let bt = last.bit_time;
+        let taken_whole = self.running.is_none()
+            && cfg.rx_coding == RxdCoding::Nrzi
+            && cfg.bit_time.is_none_or(|own| own == bt)
+            && !last.distorted;
+        let offset = seg.start.saturating_duration_since(last.start).as_picos();
+        if !taken_whole
+            || seg.bit_time != bt
+            || seg.start < last.start
+            || bt.as_picos() == 0
+            || offset % bt.as_picos() != 0
+            || seg.level_before != last.level_at(seg.start)
+        {
+            return false;
+        }
+        let k = offset / bt.as_picos();
+        let Some(prefix) = usize::try_from(k)
+            .ok()
+            .and_then(|k| bits.bits().slice(0, k))
+        else {
+            return false;
+        };
+        // The telegram's frame, as the hinted path reported it (`deliver_hinted`).
+        let start = last.start.saturating_add(bt.saturating_mul(hint.offset));
+        let mut decoder = Decoder::new(rx_line_config(
+            RxdCoding::Nrzi,
+            cfg.polrxd,
+            last.level_before,
+        ));
+        // A coded telegram holds one frame, ending with its last bit: none ends before the
+        // cut.
+        decoder.push(prefix, |_| {});
+        self.running = Some(Box::new(Running {
+            decoder,
+            base: last.start,
+            bit_time: bt,
+            next_start: seg.start,
+            resumed_at: Some(seg.start),
+        }));
+        self.retracted = Some((start, false));
+        true
     }
 }
 

@@ -5,6 +5,8 @@
 
 use std::collections::VecDeque;
 
+use sercos_wire::time::Instant;
+
 use super::{HeardFrame, RX_LOG_FRAMES, RxFrame};
 
 /// The receive log.
@@ -46,6 +48,25 @@ impl RxLog {
             self.keep_newest(RX_LOG_FRAMES);
         }
         self.records.push_back(frame.clone());
+    }
+
+    /// Forgets the frame starting at `start` that the receiver took back
+    /// (`SerialPort::line_input`), if the log still holds it. With `replaced` the frame that
+    /// replaces it (the same start) was logged after it: the earlier of the two goes.
+    pub(crate) fn retract(&mut self, start: Instant, replaced: bool) {
+        let mut same = self
+            .records
+            .iter()
+            .enumerate()
+            .rev()
+            .filter(|(_, r)| r.start == start)
+            .map(|(i, _)| i);
+        if replaced {
+            same.next();
+        }
+        if let Some(i) = same.next() {
+            self.records.remove(i);
+        }
     }
 
     /// Drops the oldest frames until at most `n` are left.
@@ -123,6 +144,43 @@ mod tests {
                 .collect();
             assert_eq!(out, want, "{many}");
         }
+    }
+
+    // Spec-notes "RS-485 bus": a frame the receiver took back leaves the log; the frame
+    // that replaced it (logged after it, with the same start) stays.
+    #[test]
+    fn a_frame_taken_back_leaves_the_log_and_its_replacement_stays() {
+        let (a, b, c) = (frame(4), frame(5), frame(8));
+        let broken = RxFrame {
+            fcs_ok: false,
+            end: Instant::from_picos(99),
+            ..b.clone()
+        };
+        for replaced in [false, true] {
+            let mut log = RxLog::default();
+            for f in [&a, &b, &c] {
+                log.push(&heard(f));
+            }
+            if replaced {
+                log.push(&heard(&broken));
+            }
+            log.retract(b.start, replaced);
+            let mut out = Vec::new();
+            log.take(&mut out);
+            let want = if replaced {
+                vec![a.clone(), c.clone(), broken.clone()]
+            } else {
+                vec![a.clone(), c.clone()]
+            };
+            assert_eq!(out, want, "replaced {replaced}");
+        }
+        // Taken from the log already: only the replacement is there, and it stays.
+        let mut log = RxLog::default();
+        log.push(&heard(&broken));
+        log.retract(b.start, true);
+        let mut out = Vec::new();
+        log.take(&mut out);
+        assert_eq!(out, vec![broken]);
     }
 
     #[test]

@@ -305,6 +305,43 @@ impl TelegramProcessor {
     }
 }
 
+/// The receiver took back the frame starting at `start` (its telegram was cut inside by the
+/// next segment: a second driver on the RS-485 bus, 410B Fig. 4; spec-notes "RS-485 bus")
+/// and reported the frame the line showed from that start in its place, if that one has
+/// ended yet. A frame whose start is still to come is simply replaced; one whose start was
+/// taken (the receive telegram in progress, 3H.11 FLREC) ends as the new report ends, or,
+/// not ended yet, at its own end in error.
+#[cold]
+#[inline(never)]
+pub(crate) fn take_back_frame(chip: &mut Chip, start: Instant) {
+    let tick = chip.clock.tick_at_or_after(start);
+    let begun = chip.clock.instant(tick) <= chip.now;
+    let q = &mut chip.tp.rx_queue;
+    // The earlier report comes first among frames of one start (`on_rx_frame`).
+    let first = q.iter().position(|(_, f)| f.start == start);
+    if !begun {
+        if let Some(i) = first {
+            q.remove(i);
+        }
+    } else {
+        let new = first.and_then(|i| q.remove(i));
+        if let Some(now) = chip.tp.rx_now.as_mut() {
+            match new {
+                Some((_, f)) => {
+                    now.end_tick = chip.clock.tick_at_or_after(f.end).max(tick);
+                    now.bytes = f.bytes;
+                    now.fcs_ok = f.fcs_ok;
+                }
+                None => now.fcs_ok = false,
+            }
+        }
+    }
+    // Cached bounds counted the frame taken back.
+    chip.tp_next = None;
+    chip.next_core = None;
+    chip.out_bound.set(None);
+}
+
 /// Whether a received frame is an MST (ADR 255 and one byte, 410B §4.2).
 pub(crate) fn frame_is_mst(bytes: &[u8]) -> bool {
     receive::is_mst(bytes)
