@@ -1512,6 +1512,11 @@ impl Simulation {
                 self.release_fillers(segment, false);
             }
             FaultKind::PowerOff { node, .. } => {
+                // A node is off while any of its power-off windows lasts (`Node::powered_at`):
+                // one that starts while it is off already changes nothing.
+                if self.nodes.get(node).is_some_and(|n| !n.powered) {
+                    return Ok(());
+                }
                 // The others run up to `t` and put out what they send then; the node itself
                 // is brought to `t` (its frozen state the same on both paths) but sends
                 // nothing from `t` on: the power-off applies before its output at `t` (the
@@ -1585,6 +1590,11 @@ impl Simulation {
                 let Some(n) = self.nodes.get_mut(node) else {
                     return Ok(());
                 };
+                // On already, or another of its power-off windows still lasts: it stays off
+                // until that one ends (the windows are half-open, `Node::powered_at`).
+                if n.powered || n.off_windows.iter().any(|(a, b)| *a <= t && t < *b) {
+                    return Ok(());
+                }
                 // A fresh chip out of reset; its host configures it again.
                 let cfg: ChipConfig = n.cfg.chip;
                 n.chip = Chip::new(cfg);

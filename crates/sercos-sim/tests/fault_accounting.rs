@@ -1199,3 +1199,38 @@ fn a_fault_inside_a_telegram_cuts_it_on_both_paths() {
         }
     }
 }
+
+// Issue 5 faults (a node powered off and on): a node is off while any of its power-off
+// windows lasts. Two overlapping windows of the master (the mixed property test's case,
+// 3000 cases): the second one's start changed nothing, but the first one's end powered the
+// master on inside the second window, where `Node::powered_at` still had it off, so the two
+// paths disagreed (its 4H.0 INT_RDIST). Now it is off over the union and on once after it.
+#[test]
+fn a_node_is_off_over_the_union_of_its_power_off_windows() {
+    let mut ring = ring_of(3, true, 0);
+    ring.bit_rate = sercos_wire::time::BitRate::Mbit2;
+    ring.cycle_us = 1000;
+    ring.fibre_m = 524;
+    let off = |from_ns: u64, to_ns: u64| Fault {
+        at: us(4000) + Duration::from_nanos(from_ns),
+        kind: FaultKind::PowerOff {
+            node: 0,
+            until: Some(us(4000) + Duration::from_nanos(to_ns)),
+        },
+    };
+    let faults = [off(11_534, 2_202_444), off(1_874_824, 3_274_551)];
+    check_mixed(&ring, &faults, 1000);
+    let [exact, fast] = both_logs(&ring, &faults, us(11_000));
+    assert_eq!(exact, fast);
+    let msts: Vec<u64> = records(exact.as_bytes())
+        .iter()
+        .filter(|r| r.kind == "MST" && r.seg == 0)
+        .map(|r| r.ps / 1_000_000)
+        .collect();
+    // Off from 4011.5 µs to 7274.6 µs: no MST in between, MSTs before and after.
+    assert!(msts.iter().all(|t| *t < 4012 || *t >= 7274), "{msts:?}");
+    assert!(
+        msts.iter().any(|t| *t < 4012) && msts.iter().any(|t| *t >= 7274),
+        "{msts:?}"
+    );
+}
