@@ -213,7 +213,14 @@ impl Node {
     /// the simulation in one dense table so that a forwarding hop touches nothing else).
     #[inline]
     pub(crate) fn put_out(&mut self, out_floor: &mut Instant, seg: &mut LineSegment, own: bool) {
-        seg.start = seg.start.max(*out_floor);
+        // A repeater's input going dark (a break, a power-off upstream) or steady light
+        // ends what it was repeating there (410B §1: the output is the regenerated input):
+        // it is not held behind the end of that telegram. Anything else starts no earlier
+        // than the end of what the line carries (a telegram reaching a repeater while it
+        // sends its own is forwarded after it on the fast path: spec-notes, Limit).
+        if !matches!(seg.signal, LineSignal::Dark | LineSignal::Light) {
+            seg.start = seg.start.max(*out_floor);
+        }
         if !self.track_levels {
             // Fast path: receivers take telegrams from the level they are at (see
             // `Simulation::deliver`), so the output's level need not be followed.
