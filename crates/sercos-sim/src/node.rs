@@ -58,6 +58,9 @@ pub(crate) struct Node {
     pub(crate) track_levels: bool,
     /// Start of the last input segment (local time).
     pub(crate) in_floor: Instant,
+    /// Where the last input and output segments of bits ended, in both times (a node whose
+    /// clock drifts: [`Node::map_in`], [`Node::map_out`]).
+    pub(crate) contig: Contiguity,
     /// The chip repeats its input (1H.3 REPON, transmitter on, no test mode).
     pub(crate) repeating: bool,
     /// The pending wake event.
@@ -74,7 +77,50 @@ pub(crate) struct Node {
     pub(crate) host_busy: bool,
 }
 
+/// The ends of a drifting node's last input and output segments of bits, in simulation
+/// and in node time: a segment that starts where the one before ended goes on from its end
+/// in the other time too ([`Node::map_in`], [`Node::map_out`]).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Contiguity {
+    /// The last input's end: (simulation time, node time).
+    input: Option<(Instant, Instant)>,
+    /// The last output's end: (node time, simulation time).
+    output: Option<(Instant, Instant)>,
+}
+
+/// The end of `seg`'s bits from `start` and the same in the other time, when nothing
+/// follows them in the segment (no implied filler).
+fn bits_end(seg: &LineSegment, start: Instant, other: Instant) -> Option<(Instant, Instant)> {
+    let len = seg.bit_time.saturating_mul(seg.bit_len()?);
+    (!seg.then_filler).then(|| (start.saturating_add(len), other.saturating_add(len)))
+}
+
 impl Node {
+    /// Node time of an input segment starting at `start` (simulation time). The line's bit
+    /// times are not scaled by the node's clock error (spec-notes "Own clocks"), so the
+    /// bits of a segment take the same time in both; a segment that starts where the last
+    /// one's bits ended (a sender's telegram and then its filler) starts where they end in
+    /// node time too, as one segment carrying both would (the fast path's implied filler).
+    pub(crate) fn map_in(&mut self, start: Instant, seg: &LineSegment) -> Instant {
+        let local = match self.contig.input {
+            Some((g, l)) if g == start => l,
+            _ => self.clock.to_local(start),
+        };
+        self.contig.input = bits_end(seg, start, local);
+        local
+    }
+
+    /// Simulation time of an output segment starting at `start` (node time), as
+    /// [`Node::map_in`]: one that starts where the last one's bits ended follows them.
+    pub(crate) fn map_out(&mut self, start: Instant, seg: &LineSegment) -> Instant {
+        let global = match self.contig.output {
+            Some((l, g)) if l == start => g,
+            _ => self.clock.to_global(start),
+        };
+        self.contig.output = bits_end(seg, start, global);
+        global
+    }
+
     pub(crate) fn new(
         cfg: NodeConfig,
         chip: Chip,
@@ -97,6 +143,7 @@ impl Node {
             last_out: None,
             track_levels: true,
             in_floor: Instant::ZERO,
+            contig: Contiguity::default(),
             repeating: false,
             wake: None,
             ran_past: false,

@@ -20,7 +20,7 @@ use crate::config::{Delivery, MAX_SLAVES, SimConfig};
 use crate::error::SimError;
 use crate::fault::{Fault, FaultKind, SegmentFaults, ppm_to_ppb};
 use crate::host::{HostProgram, Wake};
-use crate::node::{Node, repeats};
+use crate::node::{Contiguity, Node, repeats};
 use crate::recorder::{Recorder, TraceOutput};
 use crate::topology::Topology;
 
@@ -814,7 +814,11 @@ impl Simulation {
             // chip's next own output, `Chip::next_line_output_except`).
             node.resume = seg.end().filter(|_| !seg.then_filler);
         }
-        seg.start = node.clock.to_global(seg.start);
+        seg.start = if node.clock.is_identity() {
+            node.clock.to_global(seg.start)
+        } else {
+            node.map_out(seg.start, &seg)
+        };
         let Some(mut floor) = self.out_floors.get(j) else {
             return;
         };
@@ -1152,7 +1156,11 @@ impl Simulation {
         let Some(node) = self.nodes.get_mut(j) else {
             return;
         };
-        local.start = node.clock.to_local(local.start);
+        if node.clock.is_identity() {
+            local.start = node.clock.to_local(local.start);
+        } else {
+            local.start = node.map_in(local.start, &local);
+        }
         if local.start < node.in_floor {
             self.stats.out_of_order += 1;
             match local.from_instant(node.in_floor) {
@@ -1608,6 +1616,7 @@ impl Simulation {
                     let _ = v;
                 }
                 n.powered = true;
+                n.contig = Contiguity::default();
                 n.expect.clear();
                 n.resume = None;
                 n.in_floor = local;

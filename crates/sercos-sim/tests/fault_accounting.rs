@@ -297,12 +297,13 @@ fn check_accounting(
     check_accounting_with(ring, faults, t0, t1, skip, false)
 }
 
-/// The slaves whose MDT NERR the rule in [`expected`] does not decide (open, spec-notes
-/// "Faults: exact accounting"): an MDT it counts (lost in a cycle whose MST the slave
-/// took) next to a lost MST, the previous cycle's or the next one's. The chips count no
+/// The slaves whose MDT NERR the rule in [`expected`] does not decide: an MDT it counts
+/// (lost in a cycle whose MST the slave took) followed by a lost MST. The chips count no
 /// NERR for such an MDT on either path: with TCHK = 0 (410B §4.2.1, no receive window) the
 /// header waits for its telegram and the lost MST does not end the block, so the next
-/// cycle's MDT fills it (spec-notes "Faults: exact accounting", session 14).
+/// cycle's MDT fills it (spec-notes "Faults: exact accounting", session 14). (An MDT lost
+/// after a lost MST of the previous cycle was left out too until session 15: 3000 cases
+/// pass without that.)
 fn nerr_undecided(
     reference: &[Rec],
     faulty: &[Rec],
@@ -314,8 +315,8 @@ fn nerr_undecided(
     let (a, b) = (t0.as_picos(), t1.as_picos());
     let mut out = Vec::new();
     for s in 1..=n {
-        // The last two MSTs seen (this cycle's, the one before) and an MDT counted since.
-        let (mut prev_ok, mut mst_ok, mut counted) = (true, true, false);
+        // This cycle's MST taken, and an MDT counted since.
+        let (mut mst_ok, mut counted) = (true, false);
         let mut undecided = false;
         for r in reference
             .iter()
@@ -326,13 +327,9 @@ fn nerr_undecided(
                 "MST" => {
                     undecided |= counted && !ok;
                     counted = false;
-                    prev_ok = mst_ok;
                     mst_ok = ok;
                 }
-                "MDT" if mst_ok && !ok => {
-                    counted = true;
-                    undecided |= !prev_ok;
-                }
+                "MDT" if mst_ok && !ok => counted = true,
                 _ => {}
             }
         }
@@ -1273,4 +1270,36 @@ fn a_dark_cut_into_a_repeated_telegram_holds_nothing_back() {
             .collect()
     };
     assert_eq!(after(&faulty), after(&clean));
+}
+
+// Spec-notes "Own clocks": a repeater whose clock drifts (slave 3, −1517 ppm) forwards a
+// telegram and the filler after it without a gap. The exact path took them as two segments
+// and mapped each start through the clock while the bits kept their length, so the filler
+// began len × error early (here ≈ 0.15 µs); the fast path carries them as one. Slave 2
+// powered off for 13 µs then darkened the line 8 µs before FIBBR's deadline on one path and
+// not the other: the master's INT_FIBBR (4H.1) differed (the mixed property test, 3000
+// cases). Both paths now keep contiguous segments contiguous in node time.
+#[test]
+fn a_drifting_repeater_forwards_a_telegram_and_its_filler_without_a_gap() {
+    let mut ring = ring_of(3, false, 0);
+    ring.bit_rate = sercos_wire::time::BitRate::Mbit2;
+    ring.cycle_us = 1000;
+    ring.fibre_m = 14;
+    let faults = [
+        Fault {
+            at: us(7548) + Duration::from_nanos(357),
+            kind: FaultKind::PowerOff {
+                node: 2,
+                until: Some(us(7561) + Duration::from_nanos(571)),
+            },
+        },
+        Fault {
+            at: us(4000),
+            kind: FaultKind::ClockDrift {
+                node: 3,
+                ppm: -1517.0,
+            },
+        },
+    ];
+    check_mixed(&ring, &faults, 1000);
 }
