@@ -88,11 +88,24 @@ pub(crate) struct Contiguity {
     output: Option<(Instant, Instant)>,
 }
 
-/// The end of `seg`'s bits from `start` and the same in the other time, when nothing
-/// follows them in the segment (no implied filler).
-fn bits_end(seg: &LineSegment, start: Instant, other: Instant) -> Option<(Instant, Instant)> {
-    let len = seg.bit_time.saturating_mul(seg.bit_len()?);
-    (!seg.then_filler).then(|| (start.saturating_add(len), other.saturating_add(len)))
+/// `start` in the other time: where the last segment's bits ended (`last`: their end in
+/// this time and in the other) when it starts there, else `map(start)`; `last` becomes the
+/// end of `seg`'s bits, unless an implied filler follows them in the segment.
+fn follow(
+    last: &mut Option<(Instant, Instant)>,
+    start: Instant,
+    seg: &LineSegment,
+    map: impl Fn(Instant) -> Instant,
+) -> Instant {
+    let other = match *last {
+        Some((here, there)) if here == start => there,
+        _ => map(start),
+    };
+    *last = seg.bit_len().filter(|_| !seg.then_filler).map(|n| {
+        let len = seg.bit_time.saturating_mul(n);
+        (start.saturating_add(len), other.saturating_add(len))
+    });
+    other
 }
 
 impl Node {
@@ -102,23 +115,15 @@ impl Node {
     /// one's bits ended (a sender's telegram and then its filler) starts where they end in
     /// node time too, as one segment carrying both would (the fast path's implied filler).
     pub(crate) fn map_in(&mut self, start: Instant, seg: &LineSegment) -> Instant {
-        let local = match self.contig.input {
-            Some((g, l)) if g == start => l,
-            _ => self.clock.to_local(start),
-        };
-        self.contig.input = bits_end(seg, start, local);
-        local
+        let clock = &self.clock;
+        follow(&mut self.contig.input, start, seg, |t| clock.to_local(t))
     }
 
     /// Simulation time of an output segment starting at `start` (node time), as
     /// [`Node::map_in`]: one that starts where the last one's bits ended follows them.
     pub(crate) fn map_out(&mut self, start: Instant, seg: &LineSegment) -> Instant {
-        let global = match self.contig.output {
-            Some((l, g)) if l == start => g,
-            _ => self.clock.to_global(start),
-        };
-        self.contig.output = bits_end(seg, start, global);
-        global
+        let clock = &self.clock;
+        follow(&mut self.contig.output, start, seg, |t| clock.to_global(t))
     }
 
     pub(crate) fn new(

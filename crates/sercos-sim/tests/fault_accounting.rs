@@ -405,6 +405,15 @@ fn slow_ring_of(slaves: usize, mdt_after_ats: bool, seed: u64) -> StaticRing {
     ring
 }
 
+/// [`ring_of`] at 2 Mbit/s with a 1 ms cycle and fibres of `fibre_m` metres.
+fn ring_at_2mbit(slaves: usize, mdt_after_ats: bool, seed: u64, fibre_m: u32) -> StaticRing {
+    let mut ring = ring_of(slaves, mdt_after_ats, seed);
+    ring.bit_rate = sercos_wire::time::BitRate::Mbit2;
+    ring.cycle_us = 1000;
+    ring.fibre_m = fibre_m;
+    ring
+}
+
 /// Fibre `segment` broken from `at` until `until`.
 fn fibre_break(segment: usize, at: Instant, until: Instant) -> Fault {
     Fault {
@@ -935,10 +944,7 @@ fn both_logs(ring: &StaticRing, faults: &[Fault], until: Instant) -> [String; 2]
 // forwards its copies itself, as on the exact path (`Simulation::deliver_chip_forwards`).
 #[test]
 fn a_master_power_blip_leaves_the_slaves_ats_at_their_time_on_the_fast_path() {
-    let mut ring = ring_of(5, false, 711);
-    ring.bit_rate = sercos_wire::time::BitRate::Mbit2;
-    ring.cycle_us = 1000;
-    ring.fibre_m = 163;
+    let ring = ring_at_2mbit(5, false, 711, 163);
     let faults = [power_off(
         0,
         Instant::from_picos(6_201_652_000),
@@ -1209,10 +1215,7 @@ fn a_fault_inside_a_telegram_cuts_it_on_both_paths() {
 // paths disagreed (its 4H.0 INT_RDIST). Now it is off over the union and on once after it.
 #[test]
 fn a_node_is_off_over_the_union_of_its_power_off_windows() {
-    let mut ring = ring_of(3, true, 0);
-    ring.bit_rate = sercos_wire::time::BitRate::Mbit2;
-    ring.cycle_us = 1000;
-    ring.fibre_m = 524;
+    let ring = ring_at_2mbit(3, true, 0, 524);
     let off = |from_ns: u64, to_ns: u64| Fault {
         at: us(4000) + Duration::from_nanos(from_ns),
         kind: FaultKind::PowerOff {
@@ -1246,10 +1249,7 @@ fn a_node_is_off_over_the_union_of_its_power_off_windows() {
 // time, and the accounting holds (one cut MST, nothing else lost).
 #[test]
 fn a_dark_cut_into_a_repeated_telegram_holds_nothing_back() {
-    let mut ring = ring_of(4, false, 0);
-    ring.bit_rate = sercos_wire::time::BitRate::Mbit2;
-    ring.cycle_us = 1000;
-    ring.fibre_m = 1030;
+    let ring = ring_at_2mbit(4, false, 0, 1030);
     let at = us(4012) + Duration::from_nanos(151);
     let faults = [Fault {
         at,
@@ -1281,10 +1281,7 @@ fn a_dark_cut_into_a_repeated_telegram_holds_nothing_back() {
 // cases). Both paths now keep contiguous segments contiguous in node time.
 #[test]
 fn a_drifting_repeater_forwards_a_telegram_and_its_filler_without_a_gap() {
-    let mut ring = ring_of(3, false, 0);
-    ring.bit_rate = sercos_wire::time::BitRate::Mbit2;
-    ring.cycle_us = 1000;
-    ring.fibre_m = 14;
+    let ring = ring_at_2mbit(3, false, 0, 14);
     let faults = [
         Fault {
             at: us(7548) + Duration::from_nanos(357),
