@@ -114,6 +114,8 @@ impl Node {
     /// bits of a segment take the same time in both; a segment that starts where the last
     /// one's bits ended (a sender's telegram and then its filler) starts where they end in
     /// node time too, as one segment carrying both would (the fast path's implied filler).
+    #[cold]
+    #[inline(never)]
     pub(crate) fn map_in(&mut self, start: Instant, seg: &LineSegment) -> Instant {
         let clock = &self.clock;
         follow(&mut self.contig.input, start, seg, |t| clock.to_local(t))
@@ -121,6 +123,8 @@ impl Node {
 
     /// Simulation time of an output segment starting at `start` (node time), as
     /// [`Node::map_in`]: one that starts where the last one's bits ended follows them.
+    #[cold]
+    #[inline(never)]
     pub(crate) fn map_out(&mut self, start: Instant, seg: &LineSegment) -> Instant {
         let clock = &self.clock;
         follow(&mut self.contig.output, start, seg, |t| clock.to_global(t))

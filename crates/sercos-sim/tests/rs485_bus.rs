@@ -144,51 +144,52 @@ impl Outcome {
     }
 }
 
-/// Runs the case and checks that the master's view is the line's (410B §4.2.1: NERR counts
-/// every cycle whose AT the log does not have intact, RERR the last one, the data are those
-/// of the last AT received) and that every cycle with a garbled AT counts a collision.
-fn check_case(c: &Case) -> Outcome {
-    let (mut sim, log, plan, _) = overlap_run(c.d_us, c.ppm, Delivery::Fast);
-    let name = format!("d {} µs, {} ppm", c.d_us, c.ppm);
+/// Per cycle, which slaves' ATs the bus `log` of a run of `slaves` has intact; checks that
+/// the master's view is the line's (410B §4.2.1: NERR counts every cycle whose AT the log
+/// does not have intact, RERR the last one, the data are those of the last AT received),
+/// that a cycle with every AT intact shows nothing else (a garbled one may show frames in
+/// error, or nothing where the line held no flag), and that every cycle that loses an AT
+/// counts a collision.
+fn seen_per_cycle(
+    sim: &mut Simulation,
+    log: &[Line],
+    plan: &RingPlan,
+    slaves: u8,
+    name: &str,
+) -> Vec<Vec<Option<u64>>> {
     let cycle = 250_000_000u64;
     let mut cycles = Vec::new();
     for k in 0..u64::from(CYCLES) {
-        let in_cycle: Vec<&Line> = log
-            .iter()
-            .filter(|l| !l.master && l.ps / cycle == k)
+        let starts: Vec<Option<u64>> = (1..=slaves)
+            .map(|s| {
+                let v: Vec<u64> = at_starts(log, s)
+                    .into_iter()
+                    .filter(|t| t / cycle == k)
+                    .collect();
+                assert!(v.len() <= 1, "{name}: cycle {k}");
+                v.first().copied()
+            })
             .collect();
-        let start = |s: u8| {
-            let v: Vec<u64> = at_starts(&log, s)
-                .into_iter()
-                .filter(|t| t / cycle == k)
-                .collect();
-            assert!(v.len() <= 1, "{name}: cycle {k}");
-            v.first().copied()
-        };
-        let (a, b) = (start(1), start(2));
-        // A cycle with both ATs intact shows nothing else (a garbled one may show frames in
-        // error, or nothing where the line held no flag).
-        let errors = in_cycle.iter().filter(|l| !l.ok).count();
+        let errors = log
+            .iter()
+            .filter(|l| !l.master && !l.ok && l.ps / cycle == k)
+            .count();
         assert!(
-            a.is_none() || b.is_none() || errors == 0,
+            starts.iter().any(Option::is_none) || errors == 0,
             "{name}: cycle {k}"
         );
-        let offset = a
-            .zip(b)
-            .map(|(a, b)| i64::try_from(b).expect("fits") - i64::try_from(a).expect("fits"));
-        cycles.push(([a.is_some(), b.is_some()], offset));
+        cycles.push(starts);
     }
-    let out = Outcome {
-        cycles,
-        collisions: sim.stats().collisions,
-    };
-    let hit = out.cycles.iter().filter(|c| c.0 != [true, true]).count();
-    assert!(out.collisions >= hit as u64, "{name}");
+    let hit = cycles
+        .iter()
+        .filter(|c| c.iter().any(Option::is_none))
+        .count();
+    assert!(sim.stats().collisions >= hit as u64, "{name}");
     let m = sim.chip_mut(0).expect("master");
-    for s in 1..=2 {
+    for s in 1..=usize::from(slaves) {
         let h = rx_header(m, plan.master_at_header[s - 1]);
-        let missed = out.cycles.iter().filter(|c| !c.0[s - 1]).count();
-        let last = out.cycles.last().is_some_and(|c| c.0[s - 1]);
+        let missed = cycles.iter().filter(|c| c[s - 1].is_none()).count();
+        let last = cycles.last().is_some_and(|c| c[s - 1].is_some());
         assert_eq!(usize::from(h.nerr), missed, "{name}: AT {s} {h:?}");
         assert_eq!(h.rerr, !last, "{name}: AT {s} {h:?}");
         let at = plan.master_at_data[s - 1].expect("stored");
@@ -199,7 +200,27 @@ fn check_case(c: &Case) -> Outcome {
         };
         assert_eq!(m.read_ram(at), want, "{name}: AT {s} data");
     }
-    out
+    cycles
+}
+
+/// Runs the case and checks it ([`seen_per_cycle`]).
+fn check_case(c: &Case) -> Outcome {
+    let (mut sim, log, plan, _) = overlap_run(c.d_us, c.ppm, Delivery::Fast);
+    let name = format!("d {} µs, {} ppm", c.d_us, c.ppm);
+    let cycles = seen_per_cycle(&mut sim, &log, &plan, 2, &name)
+        .into_iter()
+        .map(|c| {
+            let (a, b) = (c[0], c[1]);
+            let offset = a
+                .zip(b)
+                .map(|(a, b)| i64::try_from(b).expect("fits") - i64::try_from(a).expect("fits"));
+            ([a.is_some(), b.is_some()], offset)
+        })
+        .collect();
+    Outcome {
+        cycles,
+        collisions: sim.stats().collisions,
+    }
 }
 
 /// Finds, by bisection on slave 2's clock error at `d_us` (slow: its AT later), the last
@@ -312,6 +333,35 @@ fn fast_and_exact_agree_on_a_bus() {
         assert_eq!(sf.late, se.late, "d {d}");
         assert_eq!(sf.out_of_order, se.out_of_order, "d {d}");
         assert_eq!(chips(&mut f), chips(&mut e), "d {d}");
+    }
+}
+
+// 410B §1 Fig. 4; spec-notes "RS-485 bus": three ATs on top of one another (slave 2's and
+// slave 3's laid onto the line slave 1's began, the third onto a line already garbled) or
+// in a chain (2 overlaps 1, 3 overlaps 2): the master's view is still what the line shows,
+// cycle by cycle, and three that overlap on whole bits are all lost.
+#[test]
+fn three_overlapping_ats_leave_the_master_seeing_what_the_line_shows() {
+    let t = bus_ring(3).build().expect("fits").2.at_trt_us[0];
+    for (d2, d3, lost) in [
+        (1u16, 2u16, true),
+        (2, 5, true),
+        (0, 0, true),
+        (6, 12, false),
+        (3, 9, false),
+    ] {
+        let mut ring = bus_ring(3);
+        ring.at_trt_override = Some(vec![t + 40, t + 40 + d2, t + 40 + d3]);
+        let (mut sim, log, plan, _) = run_bus(&ring, Duration::from_nanos(50), &[], RUN_US);
+        let name = format!("ATs 2 and 3 at +{d2} and +{d3} µs");
+        let cycles = seen_per_cycle(&mut sim, &log, &plan, 3, &name);
+        assert!(sim.stats().collisions >= u64::from(CYCLES), "{name}");
+        if lost {
+            assert!(
+                cycles.iter().flatten().all(Option::is_none),
+                "{name}: {cycles:?}"
+            );
+        }
     }
 }
 

@@ -62,8 +62,10 @@ impl Chip {
             }
             tp.on_rx_frame(tick, f);
         });
-        if let Some(start) = retracted {
-            crate::telegram_processor::take_back_frame(self, start);
+        if retracted {
+            for start in self.serial.take_retracted() {
+                crate::telegram_processor::take_back_frame(self, start);
+            }
             quiet = false;
         }
         // The engine's pin levels (INT0/1, CONCLK, DIVCLK, WDOGN) do not depend on the

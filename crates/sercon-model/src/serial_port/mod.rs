@@ -211,15 +211,15 @@ impl SerialPort {
     }
 
     /// Receives one segment of the line input; each frame it completes goes to the log and
-    /// then to `frames`, in order. Returns the start of a frame reported before that the
-    /// segment took back (it cut the telegram inside, `Receiver::take_retracted`): the frame
-    /// with that start reported now replaces it; the log keeps the new one only.
+    /// then to `frames`, in order. Returns whether the segment took back frames reported
+    /// before (it cut their bits, `Receiver::take_retracted`; [`SerialPort::take_retracted`]
+    /// names them): a frame of such a start reported now replaces one.
     #[must_use]
     pub(crate) fn line_input<F: FnMut(HeardFrame)>(
         &mut self,
         seg: LineSegment,
         mut frames: F,
-    ) -> Option<Instant> {
+    ) -> bool {
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
         let fwd = (self.cfg.tx_mode == TxMode::Repeat).then(|| {
             if self.tx.carried_forwarding {
@@ -252,12 +252,19 @@ impl SerialPort {
         if !short || self.events.pins_loud() {
             self.refresh_loud();
         }
-        if short {
-            return None;
+        !short && self.rx.has_retracted()
+    }
+
+    /// The starts of the frames the last [`SerialPort::line_input`] took back (when it
+    /// returned `true`), in order; the receive log has forgotten them.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn take_retracted(&mut self) -> Vec<Instant> {
+        let taken = self.rx.take_retracted();
+        for (start, replaced) in &taken {
+            self.rx_log.retract(*start, *replaced);
         }
-        let (retracted, replaced) = self.rx.take_retracted()?;
-        self.rx_log.retract(retracted, replaced);
-        Some(retracted)
+        taken.into_iter().map(|(start, _)| start).collect()
     }
 
     /// Queues an own telegram at `at`; returns when its last bit leaves, `None` when nothing

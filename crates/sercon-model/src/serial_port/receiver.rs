@@ -30,6 +30,10 @@ struct Running {
     /// ([`Receiver::resume_cut`]): frames starting before this instant had their REACTN
     /// fall scheduled already.
     resumed_at: Option<Instant>,
+    /// The start of the last segment decoded, and the decoder as it was there (for
+    /// [`Receiver::resume_cut`] of that segment).
+    seg_start: Instant,
+    before: Option<Decoder>,
 }
 
 /// The receiver's state.
@@ -63,10 +67,10 @@ pub(crate) struct Receiver {
     /// changes ([`Receiver::compute_ready`]): where the implied filler running starts and the
     /// bit time of the segment it follows, when the receiver is in that state.
     ready: Option<(Instant, Duration)>,
-    /// The start of a frame reported earlier that the last input took back
-    /// ([`Receiver::resume_cut`]; [`Receiver::take_retracted`]), and whether the frame with
-    /// that start that replaces it has been reported since.
-    retracted: Option<(Instant, bool)>,
+    /// The starts of frames reported earlier that the last input took back
+    /// ([`Receiver::resume_cut`]; [`Receiver::take_retracted`]), each with whether a frame
+    /// of that start that replaces it has been reported since.
+    retracted: Vec<(Instant, bool)>,
 }
 
 /// The receiver as it was before it took an explicit filler segment starting at `at`
@@ -594,11 +598,15 @@ impl Receiver {
                 bit_time: seg.bit_time,
                 next_start: seg.start,
                 resumed_at: None,
+                seg_start: seg.start,
+                before: None,
             }));
         }
         let Some(run) = self.running.as_mut() else {
             return;
         };
+        run.before = Some(run.decoder.clone());
+        run.seg_start = seg.start;
         let (base, bt) = (run.base, run.bit_time);
         let at = |pos: u64| base.saturating_add(bt.saturating_mul(pos));
         let mut found = Vec::new();
@@ -622,15 +630,13 @@ impl Receiver {
         run.next_start = seg.end().unwrap_or(seg.start);
         let resumed_at = run.resumed_at;
         for f in found {
+            if let Some(r) = self.retracted.iter_mut().find(|r| r.0 == f.start) {
+                r.1 = true;
+            }
             if resumed_at.is_some_and(|c| f.start < c) {
                 // The telegram taken up at a cut (`resume_cut`): its REACTN fall was
                 // scheduled when it first came (410B §2 REACTN); only its end is new.
                 events.push(f.end, Change::Reactn(true));
-                if let Some(r) = self.retracted.as_mut()
-                    && r.0 == f.start
-                {
-                    r.1 = true;
-                }
                 frames(f);
             } else {
                 deliver(f, bt, events, frames);
@@ -638,39 +644,43 @@ impl Receiver {
         }
     }
 
-    /// The start of the frame the last input took back, if it took one back, and whether
-    /// that input reported the frame that replaces it (the frame the line showed for the
-    /// telegram it cut, [`Receiver::resume_cut`]; not yet reported while that telegram's
-    /// frame goes on).
-    pub(crate) fn take_retracted(&mut self) -> Option<(Instant, bool)> {
-        self.retracted.take()
+    /// The starts of the frames the last input took back (in order), each with whether
+    /// that input reported a frame of the same start that replaces it (the frame the line
+    /// showed for the telegram it cut, [`Receiver::resume_cut`]; not yet reported while
+    /// that telegram's frame goes on).
+    pub(crate) fn take_retracted(&mut self) -> Vec<(Instant, bool)> {
+        std::mem::take(&mut self.retracted)
     }
 
-    /// `seg` starts inside the last segment. When that one was a coded telegram taken
-    /// whole ([`LineSegment::hint`], NRZI at the receiver's bit rate, no decoder running)
-    /// and `seg` is bits on its bit grid, the line showed the telegram's bits up to
-    /// `seg`'s start and `seg`'s from there (the RS-485 bus of 410B Fig. 4, where a second
-    /// driver garbles a telegram in progress): the decoder is set up as it stood at the cut,
-    /// so that `seg` continues the telegram, and the telegram's frame reported earlier is
-    /// taken back ([`Receiver::take_retracted`]). Returns whether it did so.
+    /// Whether the last input took frames back ([`Receiver::take_retracted`]).
+    #[inline]
+    pub(crate) fn has_retracted(&self) -> bool {
+        !self.retracted.is_empty()
+    }
+
+    /// `seg` starts inside the last segment. When that one was bits the receiver decoded
+    /// from their start (a coded telegram taken whole: [`LineSegment::hint`], NRZI at the
+    /// receiver's bit rate, no decoder running; or bits decoded, [`Running::before`]) and
+    /// `seg` is bits on their bit grid, the line showed the last segment's bits up to
+    /// `seg`'s start and `seg`'s from there (the RS-485 bus of 410B Fig. 4, where another
+    /// driver garbles a telegram in progress): the decoder is set up as it stood at the
+    /// cut, so that `seg` continues what it was decoding, and the frames reported from the
+    /// last segment that end after the cut are taken back ([`Receiver::take_retracted`]).
+    /// Returns whether it did so.
     #[cold]
     #[inline(never)]
     fn resume_cut(&mut self, seg: &LineSegment, cfg: &PortConfig) -> bool {
         let Some(last) = self.last.as_ref() else {
             return false;
         };
-        let (LineSignal::Bits(bits), LineSignal::Bits(_), Some(hint)) =
-            (&last.signal, &seg.signal, &last.hint)
-        else {
+        let (LineSignal::Bits(bits), LineSignal::Bits(_)) = (&last.signal, &seg.signal) else {
             return false;
         };
         let bt = last.bit_time;
-        let taken_whole = self.running.is_none()
-            && cfg.rx_coding == RxdCoding::Nrzi
-            && cfg.bit_time.is_none_or(|own| own == bt)
-            && !last.distorted;
         let offset = seg.start.saturating_duration_since(last.start).as_picos();
-        if !taken_whole
+        if cfg.rx_coding != RxdCoding::Nrzi
+            || cfg.bit_time.is_some_and(|own| own != bt)
+            || last.distorted
             || seg.bit_time != bt
             || seg.start < last.start
             || bt.as_picos() == 0
@@ -679,31 +689,66 @@ impl Receiver {
         {
             return false;
         }
-        let k = offset / bt.as_picos();
-        let Some(prefix) = usize::try_from(k)
+        let Some(prefix) = usize::try_from(offset / bt.as_picos())
             .ok()
             .and_then(|k| bits.bits().slice(0, k))
         else {
             return false;
         };
-        // The telegram's frame, as the hinted path reported it (`deliver_hinted`).
-        let start = last.start.saturating_add(bt.saturating_mul(hint.offset));
-        let mut decoder = Decoder::new(rx_line_config(
-            RxdCoding::Nrzi,
-            cfg.polrxd,
-            last.level_before,
-        ));
-        // A coded telegram holds one frame, ending with its last bit: none ends before the
-        // cut.
+        // The decoder as it stood at the last segment's start, and the instant its bit
+        // positions count from.
+        let (before, base) = match (&last.hint, self.running.as_deref()) {
+            (Some(_), None) => (
+                Decoder::new(rx_line_config(
+                    RxdCoding::Nrzi,
+                    cfg.polrxd,
+                    last.level_before,
+                )),
+                last.start,
+            ),
+            (_, Some(r))
+                if r.seg_start == last.start
+                    && Some(r.next_start) == last.end()
+                    && r.bit_time == bt =>
+            {
+                match &r.before {
+                    Some(d) => (d.clone(), r.base),
+                    None => return false,
+                }
+            }
+            _ => return false,
+        };
+        let at = |pos: u64| base.saturating_add(bt.saturating_mul(pos));
+        // What the last segment reported: the frames of its bits (a coded telegram's is
+        // its hint's, `deliver_hinted`), those ending after the cut taken back.
+        let mut taken_back = Vec::new();
+        if let (Some(hint), None) = (&last.hint, &self.running) {
+            taken_back.push((at(hint.offset), false));
+        } else {
+            let mut whole = before.clone();
+            whole.push(bits.bits(), |d| {
+                let (start, end) = match &d {
+                    Decoded::Telegram(f) => (f.start, f.end),
+                    Decoded::Error { error, .. } => (error.start(), error_end(error)),
+                };
+                if at(end) > seg.start {
+                    taken_back.push((at(start), false));
+                }
+            });
+        }
+        let mut decoder = before;
+        // Frames ending before the cut stay as they were reported.
         decoder.push(prefix, |_| {});
         self.running = Some(Box::new(Running {
             decoder,
-            base: last.start,
+            base,
             bit_time: bt,
             next_start: seg.start,
             resumed_at: Some(seg.start),
+            seg_start: seg.start,
+            before: None,
         }));
-        self.retracted = Some((start, false));
+        self.retracted = taken_back;
         true
     }
 }
