@@ -23,10 +23,14 @@ pub struct RingArgs {
     /// Seed of every random choice (bit errors).
     #[arg(long)]
     seed: Option<u64>,
-    /// A fault, repeatable: break:N@T1..T2, ber:RATE[:N][@T1..T2], power:N@T1..T2,
-    /// burst:N:BITS@T, drift:N:PPM@T, distort:N@T1..T2 (N a drive address or "master";
-    /// times from the first arrival in phase 4).
-    #[arg(long, value_name = "FAULT")]
+    /// A fault, repeatable (the forms in the help text below, `ring::fault_spec`).
+    #[arg(
+        long,
+        value_name = "FAULT",
+        help = "A fault, repeatable: break:N@T1..T2, ber:RATE[:N][@T1..T2], power:N@T1..T2, \
+                burst:N:BITS@T, drift:N:PPM@T, distort:N@T1..T2 (N a drive address or \
+                \"master\"; times from the first arrival in phase 4)"
+    )]
     fault: Vec<FaultSpec>,
     /// Telegram log of every fibre (text; JSON lines if the name ends in .jsonl).
     #[arg(long, value_name = "FILE")]

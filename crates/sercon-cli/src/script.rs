@@ -1,5 +1,5 @@
 //! `sercon script`: runs a scripted register sequence on a controller model and writes the
-//! traced pins as a VCD waveform. The file format is described in [`format`] and in
+//! traced pins as a VCD waveform. The file format is described in [`format`](mod@format) and in
 //! `examples/scripts/README.md`.
 
 use std::io::Write;

@@ -12,12 +12,12 @@ pub fn write(text: &str) -> bool {
         .is_ok()
 }
 
-/// [`write`] of `line` and a newline.
+/// [`write`](fn@write) of `line` and a newline.
 pub fn line(line: &str) -> bool {
     write(&format!("{line}\n"))
 }
 
-/// Prints a formatted line on stdout ([`line`]); evaluates to whether it was written.
+/// Prints a formatted line on stdout ([`line`](fn@line)); evaluates to whether it was written.
 macro_rules! say {
     ($($arg:tt)*) => {
         $crate::stdout_lines::line(&format!($($arg)*))

@@ -16,7 +16,7 @@
 //!
 //! Two implementations live side by side and are proven equal by property tests: the fast,
 //! table-driven [`Encoder`] / [`Decoder`] and the plain bit-serial
-//! [`reference`] coder (with the `alloc` feature).
+//! [`reference`](mod@reference) coder (with the `alloc` feature).
 
 mod bits;
 mod capture;
