@@ -291,9 +291,18 @@ impl Simulation {
                 Some(here)
             })
             .collect();
+        // Not with faults that cut the line (a break, a power-off): their dark can cut a
+        // master's telegram a slave was already given whole and ran ahead through (410B §1:
+        // a repeater forwards its input as it comes, so the dark follows hop by hop).
         let run_ahead_ok = matches!(cfg.topology, Topology::Ring { .. })
             && cfg.delivery == Delivery::Fast
-            && hosts.iter().all(|h| h.inert());
+            && hosts.iter().all(|h| h.inert())
+            && !cfg.faults.iter().any(|f| {
+                matches!(
+                    f.kind,
+                    FaultKind::FibreBreak { .. } | FaultKind::PowerOff { .. }
+                )
+            });
         let mut nodes = Vec::with_capacity(n);
         for (i, (nc, host)) in cfg.nodes.iter().zip(hosts).enumerate() {
             let mut chip =

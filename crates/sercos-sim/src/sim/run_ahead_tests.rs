@@ -337,6 +337,12 @@ fn faults_give_the_same_run_with_slaves_ahead() {
     ];
     for (what, f) in faults {
         let (logged, quiet) = same_run(&six_slaves(), &f, us(1600), what);
+        // Faults that cut the line turn running ahead off (their dark could cut a
+        // telegram a slave already ran through: spec-notes "Slaves run ahead").
+        if matches!(what, "fibre break and repair" | "power off and on") {
+            assert_eq!(logged.run_aheads + quiet.run_aheads, 0, "{what}");
+            continue;
+        }
         assert!(logged.run_aheads > 0, "{what}: the slaves ran ahead");
         // A burst scheduled on the master's own fibre leaves it faulty for the whole run:
         // the master's telegrams reach the slaves without their filler.
