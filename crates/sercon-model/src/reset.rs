@@ -21,8 +21,10 @@ pub(crate) fn reset_state(chip: &mut Chip, at: u64) {
     };
     // The telegram processor stops; frames already on their way are still delivered.
     let queued = std::mem::take(&mut chip.tp.rx_queue);
+    let replacing = std::mem::take(&mut chip.tp.replacing);
     chip.tp = Default::default();
     chip.tp.rx_queue = queued;
+    chip.tp.replacing = replacing;
     // The serial port keeps its line; it follows the reset values of 1H and 2H.
     chip.serial_registers_changed();
 }

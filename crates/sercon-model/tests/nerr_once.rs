@@ -269,11 +269,25 @@ fn cut_mdt(
 fn a_telegram_cut_inside_on_its_bit_grid_is_the_frame_the_line_then_shows() {
     // 24 bit times of one level: no edge, an HDLC abort.
     let steady = |level: bool| vec![level; 24];
+    // Every register and RAM word at 40 µs, per cut: the same whether the chip had taken
+    // the telegram's start before the cut or not.
+    let mut states: std::collections::HashMap<u64, Vec<u16>> = Default::default();
     for before in [18u64, 19, 20] {
-        for cut in [0u64, 9, 30, 45] {
+        for cut in [0u64, 9, 12, 30, 45] {
+            // Segments come before the chip passes their start (`Chip::line_input`).
+            if before * 1_000_000 > 19_000_000 + cut * 62_500 {
+                continue;
+            }
             let mdt = mdt_at_19();
             let level = mdt.level_at(mdt.start + mdt.bit_time.saturating_mul(cut));
             let (mut s, receiving, frames) = cut_mdt(before, cut, &steady(level));
+            let mut state: Vec<u16> = (0u8..0x40).map(|a| s.read_register(a)).collect();
+            state.extend((0..2048).map(|a| s.read_ram(a)));
+            assert_eq!(
+                states.entry(cut).or_insert_with(|| state.clone()),
+                &state,
+                "cut at bit {cut}: the chip advanced to {before} µs ends elsewhere"
+            );
             let name = format!("advanced to {before} µs, cut at bit {cut}");
             // From 19 µs on the chip took the MDT's start before its cut (FLREC).
             assert_eq!(receiving, before >= 19, "{name}");

@@ -140,6 +140,10 @@ pub(crate) struct TelegramProcessor {
     /// start (computed once when queued: the event loop asks for it on every turn).
     pub(crate) rx_queue: VecDeque<(u64, HeardFrame)>,
     pub(crate) rx_now: Option<RxNow>,
+    /// Frames that replace a queued frame of the same start the receiver took back
+    /// ([`take_back_frame`]): the queued one decides at its start, as a chip that had
+    /// taken it would have; the replacement gives its end.
+    pub(crate) replacing: Vec<HeardFrame>,
     /// End of the telegram being sent (3H.9 FLTMT while `Some`).
     pub(crate) tx_end: Option<u64>,
     /// The transmitter is busy until this tick.
@@ -305,12 +309,13 @@ impl TelegramProcessor {
     }
 }
 
-/// The receiver took back the frame starting at `start` (its telegram was cut inside by the
-/// next segment: a second driver on the RS-485 bus, 410B Fig. 4; spec-notes "RS-485 bus")
-/// and reported the frame the line showed from that start in its place, if that one has
-/// ended yet. A frame whose start is still to come is simply replaced; one whose start was
-/// taken (the receive telegram in progress, 3H.11 FLREC) ends as the new report ends, or,
-/// not ended yet, at its own end in error.
+/// The receiver took back the frame starting at `start` (its bits were cut by the next
+/// segment: another driver on the RS-485 bus, 410B Fig. 4; spec-notes "RS-485 bus") and
+/// reported the frame the line showed from that start in its place, if that one has ended
+/// yet. The frame keeps what it decided at its start (telegram or MST, accepted or not: the
+/// bits before the cut are the same), whether the chip has taken that start or not, so the
+/// chip's time at the cut does not matter; it ends as the new report ends, or, not ended
+/// yet, at its own end in error.
 #[cold]
 #[inline(never)]
 pub(crate) fn take_back_frame(chip: &mut Chip, start: Instant) {
@@ -319,11 +324,8 @@ pub(crate) fn take_back_frame(chip: &mut Chip, start: Instant) {
     let q = &mut chip.tp.rx_queue;
     // The earlier report comes first among frames of one start (`on_rx_frame`).
     let first = q.iter().position(|(_, f)| f.start == start);
-    if !begun {
-        if let Some(i) = first {
-            q.remove(i);
-        }
-    } else {
+    if begun {
+        // Its start was taken: the frame in progress (`rx_now`) takes the new report's end.
         let new = first.and_then(|i| q.remove(i));
         if let Some(now) = chip.tp.rx_now.as_mut() {
             match new {
@@ -335,6 +337,26 @@ pub(crate) fn take_back_frame(chip: &mut Chip, start: Instant) {
                 None => now.fcs_ok = false,
             }
         }
+    } else if let Some(i) = first {
+        // Still queued: it stays for its start, the replacement is kept for its end.
+        let new = q
+            .iter()
+            .skip(i + 1)
+            .position(|(_, f)| f.start == start)
+            .and_then(|k| q.remove(i + 1 + k))
+            .map(|(_, f)| f);
+        let replacing = match new {
+            Some(f) => f,
+            None => match q.get(i) {
+                Some((_, old)) => HeardFrame {
+                    fcs_ok: false,
+                    ..old.clone()
+                },
+                None => return,
+            },
+        };
+        chip.tp.replacing.retain(|f| f.start != start);
+        chip.tp.replacing.push(replacing);
     }
     // Cached bounds counted the frame taken back.
     chip.tp_next = None;

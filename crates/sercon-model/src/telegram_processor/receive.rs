@@ -26,7 +26,24 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
         // frames): the previous one ends here.
         frame_end(chip, tick);
     }
-    let end_tick = chip.clock.tick_at_or_after(frame.end).max(tick);
+    // A frame taken back and replaced (`take_back_frame`): it decides at its start, the
+    // replacement gives its end.
+    let (end, bytes, fcs_ok) = match chip.tp.replacing.is_empty() {
+        true => (frame.end, None, frame.fcs_ok),
+        false => match chip
+            .tp
+            .replacing
+            .iter()
+            .position(|f| f.start == frame.start)
+        {
+            Some(i) => {
+                let r = chip.tp.replacing.swap_remove(i);
+                (r.end, Some(r.bytes), r.fcs_ok)
+            }
+            None => (frame.end, None, frame.fcs_ok),
+        },
+    };
+    let end_tick = chip.clock.tick_at_or_after(end).max(tick);
     let role = if is_mst(&frame.bytes) {
         crate::mst::mst_start(chip, tick);
         RxRole::Mst
@@ -39,8 +56,8 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
         return;
     }
     chip.tp.rx_now = Some(RxNow {
-        bytes: frame.bytes,
-        fcs_ok: frame.fcs_ok,
+        bytes: bytes.unwrap_or(frame.bytes),
+        fcs_ok,
         end_tick,
         role,
     });
