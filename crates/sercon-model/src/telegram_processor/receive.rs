@@ -26,24 +26,8 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
         // frames): the previous one ends here.
         frame_end(chip, tick);
     }
-    // A frame taken back and replaced (`take_back_frame`): it decides at its start, the
-    // replacement gives its end.
-    let (end, bytes, fcs_ok) = match chip.tp.replacing.is_empty() {
-        true => (frame.end, None, frame.fcs_ok),
-        false => match chip
-            .tp
-            .replacing
-            .iter()
-            .position(|f| f.start == frame.start)
-        {
-            Some(i) => {
-                let r = chip.tp.replacing.swap_remove(i);
-                (r.end, Some(r.bytes), r.fcs_ok)
-            }
-            None => (frame.end, None, frame.fcs_ok),
-        },
-    };
-    let end_tick = chip.clock.tick_at_or_after(end).max(tick);
+    let start = frame.start;
+    let end_tick = chip.clock.tick_at_or_after(frame.end).max(tick);
     let role = if is_mst(&frame.bytes) {
         crate::mst::mst_start(chip, tick);
         RxRole::Mst
@@ -53,14 +37,36 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
     if role == RxRole::Ignored {
         // Its end would change nothing (nothing asks for an ignored frame in progress): no
         // event for it.
+        if !chip.tp.replacing.is_empty() {
+            take_replacement(chip, start, tick);
+        }
         return;
     }
     chip.tp.rx_now = Some(RxNow {
-        bytes: bytes.unwrap_or(frame.bytes),
-        fcs_ok,
+        bytes: frame.bytes,
+        fcs_ok: frame.fcs_ok,
         end_tick,
         role,
     });
+    if !chip.tp.replacing.is_empty() {
+        take_replacement(chip, start, tick);
+    }
+}
+
+/// A frame taken back and replaced (`take_back_frame`) has just started at `tick`: it
+/// decided at its start, its replacement gives its end (to the frame in progress).
+#[cold]
+#[inline(never)]
+fn take_replacement(chip: &mut Chip, start: sercos_wire::time::Instant, tick: u64) {
+    let Some(i) = chip.tp.replacing.iter().position(|f| f.start == start) else {
+        return;
+    };
+    let r = chip.tp.replacing.swap_remove(i);
+    if let Some(now) = chip.tp.rx_now.as_mut() {
+        now.end_tick = chip.clock.tick_at_or_after(r.end).max(tick);
+        now.bytes = r.bytes;
+        now.fcs_ok = r.fcs_ok;
+    }
 }
 
 /// Decides at the start of a frame whether it is the expected receive telegram.
