@@ -148,9 +148,7 @@ impl Recorder {
         let LineSignal::Bits(bits) = &seg.signal else {
             return;
         };
-        let bit_rate = BitRate::ALL
-            .into_iter()
-            .find(|r| r.bit_time() == seg.bit_time);
+        let bit_rate = bit_rate_of(seg);
         let bt = seg.bit_time;
         let at = |pos: u64| seg.start.saturating_add(bt.saturating_mul(pos)).as_picos();
         if let Some(hint) = &seg.hint {
@@ -199,9 +197,7 @@ impl Recorder {
             .filter(|Reverse(p)| p.segment != id || p.time < from)
             .collect();
         self.pending = kept.into();
-        let bit_rate = BitRate::ALL
-            .into_iter()
-            .find(|r| r.bit_time() == seg.bit_time);
+        let bit_rate = bit_rate_of(seg);
         for (pos, what) in decode_bits(seg.level_before, bits) {
             let t = seg.start.saturating_add(seg.bit_time.saturating_mul(pos));
             self.push(t.as_picos(), id, origin_at(t), bit_rate, what);
@@ -314,6 +310,13 @@ impl Recorder {
         }
         Ok(out)
     }
+}
+
+/// The bit rate of `seg`'s bit time, if it is one of the line's.
+fn bit_rate_of(seg: &LineSegment) -> Option<BitRate> {
+    BitRate::ALL
+        .into_iter()
+        .find(|r| r.bit_time() == seg.bit_time)
 }
 
 /// What an explicit bit segment holds (410B §1 NRZI line, light levels from

@@ -695,16 +695,18 @@ impl Receiver {
         else {
             return false;
         };
-        // The decoder as it stood at the last segment's start, and the instant its bit
-        // positions count from.
-        let (before, base) = match (&last.hint, self.running.as_deref()) {
-            (Some(_), None) => (
+        // The decoder as it stood at the last segment's start, the instant its bit
+        // positions count from, and the start of a coded telegram's frame (what the hinted
+        // path reported, `deliver_hinted`).
+        let (before, base, hinted) = match (&last.hint, self.running.as_deref()) {
+            (Some(hint), None) => (
                 Decoder::new(rx_line_config(
                     RxdCoding::Nrzi,
                     cfg.polrxd,
                     last.level_before,
                 )),
                 last.start,
+                Some(hint.offset),
             ),
             (_, Some(r))
                 if r.seg_start == last.start
@@ -712,21 +714,18 @@ impl Receiver {
                     && r.bit_time == bt =>
             {
                 match &r.before {
-                    Some(d) => (d.clone(), r.base),
+                    Some(d) => (d.clone(), r.base, None),
                     None => return false,
                 }
             }
             _ => return false,
         };
         let at = |pos: u64| base.saturating_add(bt.saturating_mul(pos));
-        // What the last segment reported: the frames of its bits (a coded telegram's is
-        // its hint's, `deliver_hinted`), those ending after the cut taken back.
+        // What the last segment reported, those frames ending after the cut taken back.
         let mut taken_back = Vec::new();
-        if let (Some(hint), None) = (&last.hint, &self.running) {
-            taken_back.push((at(hint.offset), false));
-        } else {
-            let mut whole = before.clone();
-            whole.push(bits.bits(), |d| {
+        match hinted {
+            Some(offset) => taken_back.push((at(offset), false)),
+            None => before.clone().push(bits.bits(), |d| {
                 let (start, end) = match &d {
                     Decoded::Telegram(f) => (f.start, f.end),
                     Decoded::Error { error, .. } => (error.start(), error_end(error)),
@@ -734,7 +733,7 @@ impl Receiver {
                 if at(end) > seg.start {
                     taken_back.push((at(start), false));
                 }
-            });
+            }),
         }
         let mut decoder = before;
         // Frames ending before the cut stay as they were reported.

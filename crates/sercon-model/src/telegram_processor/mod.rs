@@ -117,6 +117,16 @@ pub(crate) struct RxNow {
     pub(crate) role: RxRole,
 }
 
+impl RxNow {
+    /// The frame in progress ends as `f` ends (a frame the receiver took back and replaced,
+    /// [`take_back_frame`]), at `end_tick`.
+    pub(crate) fn end_as(&mut self, f: HeardFrame, end_tick: u64) {
+        self.end_tick = end_tick;
+        self.bytes = f.bytes;
+        self.fcs_ok = f.fcs_ok;
+    }
+}
+
 /// MST bookkeeping (slave reception, master ring delay).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) struct MstState {
@@ -330,9 +340,8 @@ pub(crate) fn take_back_frame(chip: &mut Chip, start: Instant) {
         if let Some(now) = chip.tp.rx_now.as_mut() {
             match new {
                 Some((_, f)) => {
-                    now.end_tick = chip.clock.tick_at_or_after(f.end).max(tick);
-                    now.bytes = f.bytes;
-                    now.fcs_ok = f.fcs_ok;
+                    let end_tick = chip.clock.tick_at_or_after(f.end).max(tick);
+                    now.end_as(f, end_tick);
                 }
                 None => now.fcs_ok = false,
             }

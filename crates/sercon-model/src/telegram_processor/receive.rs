@@ -62,10 +62,9 @@ fn take_replacement(chip: &mut Chip, start: sercos_wire::time::Instant, tick: u6
         return;
     };
     let r = chip.tp.replacing.swap_remove(i);
+    let end_tick = chip.clock.tick_at_or_after(r.end).max(tick);
     if let Some(now) = chip.tp.rx_now.as_mut() {
-        now.end_tick = chip.clock.tick_at_or_after(r.end).max(tick);
-        now.bytes = r.bytes;
-        now.fcs_ok = r.fcs_ok;
+        now.end_as(r, end_tick);
     }
 }
 
