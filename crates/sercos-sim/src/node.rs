@@ -58,6 +58,13 @@ pub(crate) struct Node {
     pub(crate) track_levels: bool,
     /// Start of the last input segment (local time).
     pub(crate) in_floor: Instant,
+    /// How far the output the chip released reaches (simulation time; the output floor as
+    /// the last segment taken from the chip left it): beyond it, the output line holds what
+    /// the fast path put out ahead of the chip (`Simulation::repeat_out`).
+    pub(crate) chip_out_end: Instant,
+    /// Where the chip's last output ended in node time (a node whose clock drifts:
+    /// [`Node::map_out_after`]).
+    pub(crate) out_local_end: Instant,
     /// Where the last input and output segments of bits ended, in both times (a node whose
     /// clock drifts: [`Node::map_in`], [`Node::map_out`]).
     pub(crate) contig: Contiguity,
@@ -130,6 +137,29 @@ impl Node {
         follow(&mut self.contig.output, start, seg, |t| clock.to_global(t))
     }
 
+    /// `seg`, released by the chip (node time), in simulation time ([`Node::map_out`]),
+    /// with the output line taken up to `floor`. A segment that starts where or after the
+    /// chip's last output ended in node time starts no earlier than that output's end in
+    /// simulation time: bits keep the line's bit time in both (spec-notes "Own clocks"), so
+    /// a segment's end maps up to its length × the clock error later than the clock maps the
+    /// instant, and what follows it in the chip's time could otherwise overlap it in the
+    /// simulation's. Only a segment that starts before that end in node time cuts what the
+    /// line carries (the chip's own telegram over what it repeats, 410B §1).
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn map_out_after(&mut self, seg: &mut LineSegment, floor: Instant) {
+        let local = seg.start;
+        let local_end = seg.end().unwrap_or(local);
+        seg.start = self.map_out(local, seg);
+        if local >= self.out_local_end
+            && seg.start < floor
+            && !matches!(seg.signal, LineSignal::Dark | LineSignal::Light)
+        {
+            seg.start = floor;
+        }
+        self.out_local_end = self.out_local_end.max(local_end);
+    }
+
     pub(crate) fn new(
         cfg: NodeConfig,
         chip: Chip,
@@ -151,6 +181,8 @@ impl Node {
             resume: None,
             last_out: None,
             track_levels: true,
+            chip_out_end: Instant::ZERO,
+            out_local_end: Instant::ZERO,
             in_floor: Instant::ZERO,
             contig: Contiguity::default(),
             repeating: false,
@@ -264,26 +296,28 @@ impl Node {
     /// Puts `seg` (simulation time) on the output line, adjusting it in place. Like the
     /// transmitter (410B §1: regenerated signal), a telegram continues from the level the
     /// line is at (NRZI decodes an inverted telegram the same); an own steady signal starts
-    /// from that level.
+    /// from that level. A segment starting before the end of what the line carries cuts
+    /// it there (410B §1: the chip's transmitter merges its own telegrams over what it
+    /// repeats, and what it releases describes its output line from each start on;
+    /// spec-notes "Repeater collisions"); returns whether it did so to a telegram's bits.
     /// `out_floor` is how far the node's output line is taken (simulation time; kept by
     /// the simulation in one dense table so that a forwarding hop touches nothing else).
     #[inline]
-    pub(crate) fn put_out(&mut self, out_floor: &mut Instant, seg: &mut LineSegment, own: bool) {
-        // A repeater's input going dark (a break, a power-off upstream) or steady light
-        // ends what it was repeating there (410B §1: the output is the regenerated input):
-        // it is not held behind the end of that telegram. Anything else starts no earlier
-        // than the end of what the line carries (a telegram reaching a repeater while it
-        // sends its own is forwarded after it on the fast path: spec-notes, Limit).
-        if !matches!(seg.signal, LineSignal::Dark | LineSignal::Light) {
-            seg.start = seg.start.max(*out_floor);
-        }
+    pub(crate) fn put_out(
+        &mut self,
+        out_floor: &mut Instant,
+        seg: &mut LineSegment,
+        own: bool,
+    ) -> bool {
+        let cut = seg.start < *out_floor && matches!(seg.signal, LineSignal::Bits(_));
         if !self.track_levels {
             // Fast path: receivers take telegrams from the level they are at (see
             // `Simulation::deliver`), so the output's level need not be followed.
             *out_floor = seg.end().unwrap_or(seg.start);
-            return;
+            return cut;
         }
         self.put_out_tracked(out_floor, seg, own);
+        cut
     }
 
     /// [`Node::put_out`] following the output's level (reference path; out of line).

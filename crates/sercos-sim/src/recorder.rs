@@ -284,9 +284,11 @@ impl Recorder {
         Ok(())
     }
 
-    /// Writes everything and hands the traces over.
+    /// Writes everything up to `end`, the end of the run, and hands the traces over. Records
+    /// after it are left out: the fast path knows arrivals ahead of time, the reference path
+    /// only what was sent by then, and a trace holds what the line carried during the run.
     pub(crate) fn finish(mut self, end: Instant) -> Result<TraceOutput, SimError> {
-        self.flush_due(u64::MAX)?;
+        self.flush_due(end.as_picos().saturating_add(1))?;
         let mut out = TraceOutput {
             records: self.records,
             hash: self.hasher.take().map(TraceHasher::finish),

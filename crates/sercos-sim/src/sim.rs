@@ -90,6 +90,15 @@ pub struct SimStats {
     /// Wakes set to a placeholder at the chip's time after a run past its output, rather
     /// than found (`Simulation::park`).
     pub parked_wakes: u64,
+    /// Fast path only (0 on the reference path): telegrams that met another at a repeater's
+    /// output where the fast path put the repeated one out itself, ahead of the repeater's
+    /// chip (410B §1: the chip merges its own telegrams over what it repeats, cutting or
+    /// shadowing the repeated one; spec-notes "Repeater collisions"). The fast path then
+    /// held the repeated telegram behind the other, or the chip's output cut it with no
+    /// rest after; a run with any may differ from the reference path's
+    /// ([`Delivery::Exact`]), which should be run instead (`sercon ring` does so by itself).
+    /// A ring whose telegrams keep clear of each other at every repeater has none.
+    pub fast_path_collisions: u64,
 }
 
 /// One segment (fibre, or the bus) as the simulation sees it.
@@ -823,15 +832,21 @@ impl Simulation {
             // chip's next own output, `Chip::next_line_output_except`).
             node.resume = seg.end().filter(|_| !seg.then_filler);
         }
-        seg.start = if node.clock.is_identity() {
-            node.clock.to_global(seg.start)
-        } else {
-            node.map_out(seg.start, &seg)
-        };
         let Some(mut floor) = self.out_floors.get(j) else {
             return;
         };
-        node.put_out(&mut floor, &mut seg, origin == j);
+        if node.clock.is_identity() {
+            seg.start = node.clock.to_global(seg.start);
+        } else {
+            node.map_out_after(&mut seg, floor);
+        }
+        let before = floor;
+        if node.put_out(&mut floor, &mut seg, origin == j) && before > node.chip_out_end {
+            // The chip's output cut a telegram the fast path put out ahead of it (`repeat_out`,
+            // `pass_plain`): the chip knew nothing of it and sends no rest after its own.
+            self.stats.fast_path_collisions += 1;
+        }
+        node.chip_out_end = floor;
         self.out_floors.set(j, floor);
         self.floor_written(j);
         if replayed {
@@ -1078,6 +1093,16 @@ impl Simulation {
         let Some(mut floor) = self.out_floors.get(next) else {
             return false;
         };
+        // The fast path's copy, put out ahead of the repeater's chip, waits behind what its
+        // output carries (410B §1: the chip would cut or shadow one of the two; the run may
+        // differ from the reference path's: counted). A filler waits as the chip's resume
+        // after its own telegram would send it.
+        if seg.start < floor && !matches!(seg.signal, LineSignal::Dark | LineSignal::Light) {
+            if matches!(seg.signal, LineSignal::Bits(_)) {
+                self.stats.fast_path_collisions += 1;
+            }
+            seg.start = floor;
+        }
         node.put_out(&mut floor, seg, false);
         self.out_floors.set(next, floor);
         self.floor_written(next);
@@ -1240,14 +1265,17 @@ impl Simulation {
                 }
                 return;
             }
-            // A parked node's wake is no wake of its own (`Simulation::park`).
-            if !node.parked && node.wake.is_some_and(|w| w <= start) {
-                debug_assert!(
-                    self.next_wake(j).is_none_or(|w| {
-                        w.is_none_or(|w| self.nodes.get(j).and_then(|n| n.wake) <= Some(w))
-                    }),
-                    "a delivery ahead of the chip made its next wake earlier"
-                );
+            // A parked node's wake is no wake of its own (`Simulation::park`). The input may
+            // still bring an event before that wake: a receiver decodes the end of the bits
+            // before it (an abort, a frame's end) once it sees how the line goes on, which
+            // may be an earlier segment's rest cut or resumed at a repeater (410B §1): then
+            // the wake found is taken.
+            if !node.parked
+                && node.wake.is_some_and(|w| w <= start)
+                && self.next_wake(j).is_none_or(|w| {
+                    w.is_none_or(|w| self.nodes.get(j).and_then(|n| n.wake) <= Some(w))
+                })
+            {
                 return;
             }
             if let Some(end) = ahead_to

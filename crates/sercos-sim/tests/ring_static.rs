@@ -509,3 +509,70 @@ fn an_at_after_the_master_s_next_telegram_started_gives_the_exact_trace() {
         );
     }
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(
+        std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(12)
+    ))]
+
+    // PROBE: AT layouts that collide at repeaters.
+    #[test]
+    fn probe_any_at_layout_gives_the_exact_path(
+        slaves in 2usize..=5,
+        cycle_us in 250u16..=600,
+        words in 1u16..=4,
+        fibre_m in 1u32..=300,
+        shifts in proptest::collection::vec(-30i32..=30, 5),
+        end_us in 1500u64..=2500,
+        mdt_after_ats: bool,
+    ) {
+        let mut base = StaticRing::new(slaves, cycle_us);
+        base.mdt_after_ats = mdt_after_ats;
+        base.mdt_words = words;
+        base.at_words = words;
+        base.fibre_m = fibre_m;
+        proptest::prop_assume!(base.build().is_ok());
+        let (_, _, plan) = build(&base);
+        let trts: Vec<u16> = plan.at_trt_us.iter().zip(&shifts).map(|(t, s)| (i32::from(*t) + s).clamp(1, i32::from(cycle_us) - 1) as u16).collect();
+        base.at_trt_override = Some(trts);
+        let mut logs = Vec::new();
+        let mut collisions = Vec::new();
+        for delivery in [Delivery::Exact, Delivery::Fast] {
+            let mut ring = base.clone();
+            ring.delivery = delivery;
+            let (cfg, hosts, _) = build(&ring);
+            let (sim, out) = run(cfg, hosts, us(end_us));
+            logs.push(out.log);
+            collisions.push(sim.stats().fast_path_collisions);
+        }
+        if collisions[1] == 0 {
+            proptest::prop_assert_eq!(String::from_utf8_lossy(&logs[0]), String::from_utf8_lossy(&logs[1]));
+            let (states, _) = exact_and_fast_states(&base, us(end_us));
+            proptest::prop_assert_eq!(first_difference(&states), None);
+        }
+    }
+}
+
+#[test]
+fn probe_case_1() {
+    let mut base = StaticRing::new(5, 250);
+    base.mdt_words = 1;
+    base.at_words = 1;
+    base.fibre_m = 75;
+    let (_, _, plan) = build(&base);
+    let shifts = [0, 20, 12, 0, -1];
+    let trts: Vec<u16> = plan
+        .at_trt_us
+        .iter()
+        .zip(&shifts)
+        .map(|(t, s)| (i32::from(*t) + s) as u16)
+        .collect();
+    base.at_trt_override = Some(trts);
+    for delivery in [Delivery::Exact, Delivery::Fast] {
+        let mut ring = base.clone();
+        ring.delivery = delivery;
+        let (cfg, hosts, _) = build(&ring);
+        let (sim, _) = run(cfg, hosts, us(1500));
+        eprintln!("{delivery:?} {:?}", sim.stats());
+    }
+}

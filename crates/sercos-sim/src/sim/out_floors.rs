@@ -131,15 +131,16 @@ impl OutFloors {
 
     /// Carries `seg` from the output of node `run.start − 1` through the plain repeaters
     /// `run` (`plain`: their fibre delays, as `Simulation::plain_hop` keeps them), raising
-    /// their floors; returns its start after the last of them. `walk` is the hop-by-hop
-    /// reference (used when the run's floors are not one offset).
+    /// their floors; returns its start after the last of them and whether a floor held it
+    /// up anywhere. `walk` is the hop-by-hop reference (used when the run's floors are not
+    /// one offset).
     pub(super) fn pass(
         &mut self,
         plain: &[u64],
         run: Range<usize>,
         seg: Crossing,
         walk: impl FnOnce(&[u64], &mut [Instant], Instant) -> (Instant, usize),
-    ) -> Instant {
+    ) -> (Instant, bool) {
         let Crossing { start, len, lat } = seg;
         let (first, end) = (run.start, run.end);
         self.use_lat(lat);
@@ -147,7 +148,7 @@ impl OutFloors {
             first.checked_sub(1).and_then(|i| self.prefix.get(i)),
             end.checked_sub(1).and_then(|i| self.prefix.get(i)),
         ) else {
-            return start;
+            return (start, false);
         };
         let (q_in, q_out) = (*q_in, *q_out);
         let len_ps = i128::from(len.as_picos());
@@ -171,15 +172,19 @@ impl OutFloors {
                 self.write_range(u, u.from, first);
                 self.write_range(u, end, u.to);
                 self.uniform = Some(new);
-                return Instant::from_picos(u64::try_from(out).unwrap_or(0));
+                return (
+                    Instant::from_picos(u64::try_from(out).unwrap_or(0)),
+                    u.offset > offset,
+                );
             }
         }
         self.write_out();
         let Some(floors) = self.floors.get_mut(first..end) else {
-            return start;
+            return (start, false);
         };
         let (out, run) = walk(plain, floors, start);
         let out_ps = i128::from(out.as_picos());
+        let held = run == end.saturating_sub(first) && out_ps - q_out != offset;
         // Not held up anywhere: the floors are one offset over the run now.
         if run == end.saturating_sub(first) && out_ps - q_out == offset && out_ps + len_ps < SAFE_PS
         {
@@ -189,7 +194,7 @@ impl OutFloors {
                 offset: offset + len_ps,
             });
         }
-        out
+        (out, held)
     }
 
     /// Debug builds: the constant-time pass gives what the walk gives.
@@ -281,10 +286,16 @@ mod tests {
                         }
                         let want = reference(plain, &mut slow[first..end], start, lat, len);
                         let seg = Crossing { start, len, lat };
-                        let got = fast.pass(plain, first..end, seg, |p, f, s| {
+                        let (got, held) = fast.pass(plain, first..end, seg, |p, f, s| {
                             reference(p, f, s, lat, len)
                         });
                         assert_eq!(got, want.0, "seed {seed} step {step}");
+                        // Held up anywhere: later than the hops alone bring it.
+                        let free = plain.iter().fold(start, |a, d| {
+                            a.saturating_add(Duration::from_picos(*d))
+                                .saturating_add(lat)
+                        });
+                        assert_eq!(held, got > free, "seed {seed} step {step}");
                     }
                 }
                 for (m, want) in slow.iter().enumerate() {

@@ -99,11 +99,15 @@ impl Simulation {
             len,
             lat,
         };
-        let start = self
+        let (start, held) = self
             .out_floors
             .pass(plain, first..stop, crossing, |p, f, s| {
                 walk(p, f, s, lat, len)
             });
+        if held && end.is_some() {
+            // A telegram held behind another at a repeater's output (`repeat_out`).
+            self.stats.fast_path_collisions += 1;
+        }
         // Kept only where no sum saturated (then the module notes' algebra holds).
         self.plain_pass = start
             .as_picos()
