@@ -118,3 +118,45 @@ proptest! {
         prop_assert_eq!(got, frames_of(start, &line));
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    // A telegram cut off its bit grid (a repeater's own telegram cutting one it repeats,
+    // 410B §1: the two come from different clocks): the bit the cut falls in counts whole
+    // and the new bits follow on the grid, as the DPLL locked to the old bits samples them
+    // (spec-notes "Repeater collisions"); the chip run to a point before the cut.
+    #[test]
+    fn a_line_cut_off_its_grid_is_received_with_the_new_bits_on_it(
+        telegram in proptest::collection::vec(any::<u8>(), 1..12),
+        k2 in any::<prop::sample::Index>(),
+        frac in 1u64..62_500,
+        b2 in proptest::collection::vec(any::<bool>(), 1..160),
+        run in 0u64..1000,
+    ) {
+        let start = common::us(10);
+        let a = coded(start, &telegram).expect("encodable");
+        let LineSignal::Bits(abits) = &a.signal else { unreachable!() };
+        let abits: Vec<bool> = abits.bits().iter().collect();
+        // Inside bit k2 (0-based), not at its start.
+        let k2 = k2.index(abits.len());
+        let c2 = start
+            .saturating_add(BT.saturating_mul(k2 as u64))
+            .saturating_add(Duration::from_picos(frac));
+        let level = abits.get(k2).copied().unwrap_or(false);
+        let mut chip = common::chip816();
+        chip.line_input(a.clone());
+        chip.advance_to(start.saturating_add(Duration::from_picos(
+            c2.saturating_duration_since(start).as_picos() / 1000 * run,
+        )));
+        let mut tail = b2.clone();
+        let last = *b2.last().unwrap_or(&level);
+        tail.extend(std::iter::repeat_n(last, 16));
+        chip.line_input(LineSegment::bits(c2, BT, bitvec(&tail), level));
+        let mut got = Vec::new();
+        chip.take_rx_frames(&mut got);
+        let mut line: Vec<bool> = abits[..=k2].to_vec();
+        line.extend_from_slice(&tail);
+        prop_assert_eq!(got, frames_of(start, &line));
+    }
+}

@@ -43,6 +43,9 @@ enum What {
 #[derive(Debug, Clone)]
 struct Pending {
     time: u64,
+    /// Written no earlier than this (ps): the end of the bits it was decoded from, which a
+    /// segment entering the fibre before then may still cut ([`Recorder::observe`]).
+    safe: u64,
     segment: u16,
     seq: u64,
     origin: Origin,
@@ -87,6 +90,16 @@ pub(crate) struct Recorder {
     /// Records from this instant (ps) on are kept even once simulated time has passed them:
     /// the RS-485 bus may still garble them ([`Recorder::hold_from`]).
     hold: u64,
+    /// Per traced segment (index: its id), the last telegram bits that entered it, while a
+    /// segment starting inside them may still cut them.
+    entered: Vec<Option<Entered>>,
+}
+
+/// Bits that entered a segment, and whose they are.
+#[derive(Debug, Clone)]
+struct Entered {
+    seg: LineSegment,
+    origin: Origin,
 }
 
 impl Recorder {
@@ -110,6 +123,7 @@ impl Recorder {
             records: 0,
             vcd: Vec::new(),
             hold: u64::MAX,
+            entered: Vec::new(),
         })
     }
 
@@ -137,34 +151,129 @@ impl Recorder {
         logged || captured
     }
 
-    /// `seg` entered `segment` (simulation time): its telegrams and frames in error.
+    /// `seg` entered `segment` (simulation time): its telegrams and frames in error. Bits
+    /// that start inside the bits that entered before cut them there (a repeater's own
+    /// telegram over one it repeats, 410B §1): their records are replaced by what the line
+    /// then carried ([`Recorder::cut_entered`]). A steady signal (a fault's darkness or
+    /// light) leaves them as they entered: the receivers' diagnostics report that cut
+    /// (spec-notes "Repeater collisions", "Trace times").
     pub(crate) fn observe(&mut self, segment: usize, seg: &LineSegment, origin: Origin) {
         if !self.wants(segment) {
             return;
         }
-        let Ok(segment) = u16::try_from(segment) else {
+        let Ok(id) = u16::try_from(segment) else {
             return;
         };
+        if matches!(seg.signal, LineSignal::Bits(_))
+            && self
+                .entered
+                .get(segment)
+                .and_then(Option::as_ref)
+                .is_some_and(|e| {
+                    seg.start >= e.seg.start && e.seg.end().is_some_and(|end| seg.start < end)
+                })
+        {
+            self.cut_entered(segment, id, seg, origin);
+            return;
+        }
+        self.observe_fresh(segment, id, seg, origin);
+    }
+
+    /// [`Recorder::observe`] of a segment that cuts nothing.
+    fn observe_fresh(&mut self, segment: usize, id: u16, seg: &LineSegment, origin: Origin) {
+        if self.entered.len() <= segment {
+            self.entered.resize(segment + 1, None);
+        }
         let LineSignal::Bits(bits) = &seg.signal else {
+            if let Some(e) = self.entered.get_mut(segment) {
+                *e = None;
+            }
             return;
         };
         let bit_rate = bit_rate_of(seg);
         let bt = seg.bit_time;
+        let safe = seg.end().unwrap_or(seg.start).as_picos();
         let at = |pos: u64| seg.start.saturating_add(bt.saturating_mul(pos)).as_picos();
         if let Some(hint) = &seg.hint {
             let time = at(hint.offset);
             self.push(
-                time,
-                segment,
+                (time, safe),
+                id,
                 origin,
                 bit_rate,
                 What::Telegram(hint.telegram.clone()),
             );
+        } else {
+            for (pos, what) in decode_bits(seg.level_before, bits) {
+                self.push((at(pos), safe), id, origin, bit_rate, what);
+            }
+        }
+        if let Some(e) = self.entered.get_mut(segment) {
+            *e = Some(Entered {
+                seg: seg.clone(),
+                origin,
+            });
+        }
+    }
+
+    /// `seg` entered `segment` inside the bits that entered before (`entered`): their
+    /// records are taken back and decoded again as the line carried them up to the cut. Of
+    /// the same bit time, that is their bits up to the end of the bit the cut falls in and
+    /// `seg`'s bits on from there, decoded as one (as a receiver continues bits cut by a
+    /// telegram, `Receiver::resume_cut`: the frame in progress ends at `seg`'s opening
+    /// flag, in error); of another, their whole bits up to the cut. `seg`'s own records
+    /// then follow at its own times.
+    #[cold]
+    #[inline(never)]
+    fn cut_entered(&mut self, segment: usize, id: u16, seg: &LineSegment, origin: Origin) {
+        let Some(prev) = self.entered.get_mut(segment).and_then(Option::take) else {
             return;
+        };
+        let LineSignal::Bits(prev_bits) = &prev.seg.signal else {
+            return;
+        };
+        let from = prev.seg.start.as_picos();
+        let kept: Vec<Reverse<Pending>> = std::mem::take(&mut self.pending)
+            .into_vec()
+            .into_iter()
+            .filter(|Reverse(p)| p.segment != id || p.time < from)
+            .collect();
+        self.pending = kept.into();
+        let bt = prev.seg.bit_time;
+        let elapsed = seg
+            .start
+            .saturating_duration_since(prev.seg.start)
+            .as_picos();
+        let bt_ps = bt.as_picos().max(1);
+        let joined = match &seg.signal {
+            LineSignal::Bits(b) if seg.bit_time == bt => Some(b),
+            _ => None,
+        };
+        let whole = if joined.is_some() {
+            elapsed.div_ceil(bt_ps)
+        } else {
+            elapsed / bt_ps
+        };
+        let whole = usize::try_from(whole).unwrap_or(usize::MAX);
+        let mut line = prev_bits
+            .bits()
+            .slice(0, whole.min(prev_bits.bits().len()))
+            .map(BitVec::from_bits)
+            .unwrap_or_default();
+        if let Some(b) = joined {
+            for bit in b.bits().iter() {
+                line.push(bit);
+            }
         }
-        for (pos, what) in decode_bits(seg.level_before, bits) {
-            self.push(at(pos), segment, origin, bit_rate, what);
+        let bit_rate = bit_rate_of(&prev.seg);
+        for (pos, what) in decode_bits(prev.seg.level_before, &line) {
+            let t = prev.seg.start.saturating_add(bt.saturating_mul(pos));
+            if t < seg.start {
+                // Final: nothing can enter before `seg` any more.
+                self.push((t.as_picos(), 0), id, prev.origin, bit_rate, what);
+            }
         }
+        self.observe_fresh(segment, id, seg, origin);
     }
 
     /// Keeps the records from `t` on (and every later one) until [`Recorder::hold_from`]
@@ -200,13 +309,18 @@ impl Recorder {
         let bit_rate = bit_rate_of(seg);
         for (pos, what) in decode_bits(seg.level_before, bits) {
             let t = seg.start.saturating_add(seg.bit_time.saturating_mul(pos));
-            self.push(t.as_picos(), id, origin_at(t), bit_rate, what);
+            self.push((t.as_picos(), 0), id, origin_at(t), bit_rate, what);
+        }
+        // The bus's line since its transmission began: what enters next starts after it.
+        if let Some(e) = self.entered.get_mut(segment) {
+            *e = None;
         }
     }
 
+    /// Queues a record at `time`, written no earlier than `safe` (ps).
     fn push(
         &mut self,
-        time: u64,
+        (time, safe): (u64, u64),
         segment: u16,
         origin: Origin,
         bit_rate: Option<BitRate>,
@@ -215,6 +329,7 @@ impl Recorder {
         self.seq += 1;
         self.pending.push(Reverse(Pending {
             time,
+            safe,
             segment,
             seq: self.seq,
             origin,
@@ -231,17 +346,18 @@ impl Recorder {
         if self
             .pending
             .peek()
-            .is_none_or(|Reverse(top)| top.time >= bound)
+            .is_none_or(|Reverse(top)| top.time >= bound || top.safe > now.as_picos())
         {
             return Ok(());
         }
-        self.flush_due(bound)
+        self.flush_due(bound, now.as_picos())
     }
 
-    /// [`Recorder::flush_before`] when something is due: the records before `bound` (ps).
-    fn flush_due(&mut self, bound: u64) -> Result<(), SimError> {
+    /// [`Recorder::flush_before`] when something is due: the records before `bound` (ps)
+    /// whose bits can no longer be cut at `now` (ps).
+    fn flush_due(&mut self, bound: u64, now: u64) -> Result<(), SimError> {
         while let Some(Reverse(top)) = self.pending.peek() {
-            if top.time >= bound {
+            if top.time >= bound || top.safe > now {
                 break;
             }
             let Some(Reverse(p)) = self.pending.pop() else {
@@ -288,7 +404,7 @@ impl Recorder {
     /// after it are left out: the fast path knows arrivals ahead of time, the reference path
     /// only what was sent by then, and a trace holds what the line carried during the run.
     pub(crate) fn finish(mut self, end: Instant) -> Result<TraceOutput, SimError> {
-        self.flush_due(end.as_picos().saturating_add(1))?;
+        self.flush_due(end.as_picos().saturating_add(1), u64::MAX)?;
         let mut out = TraceOutput {
             records: self.records,
             hash: self.hasher.take().map(TraceHasher::finish),

@@ -291,14 +291,21 @@ impl StaticRing {
             mdt_tlen,
             master_mdt_data: mdt_at + 5,
             mdt_container_len: mdt_len,
-            master_at_header: Vec::with_capacity(n),
-            master_at_data: Vec::with_capacity(n),
+            master_at_header: Vec::new(),
+            master_at_data: Vec::new(),
             slave_mdt_header: slave_mdt,
             slave_mdt_data: slave_mdt + 7,
             slave_at_data: slave_at + 5,
         };
         let mut p = ats_at;
-        for (i, trt) in at_trt.iter().enumerate() {
+        // In the order of the ATs' times (410B §4.2: the processor walks its list in order):
+        // slave order unless `at_trt_override` moves them.
+        let mut order: Vec<(u16, usize)> = at_trt.iter().copied().zip(0..).collect();
+        order.sort();
+        plan.master_at_header = vec![0; n];
+        plan.master_at_data = vec![None; n];
+        for (trt, i) in order {
+            let trt = &trt;
             let len = at_len;
             let next = p + 7 + len;
             // 410B §4.2.1 TCHK: each AT is expected in its own window (18H/19H JTRDEL1/2
@@ -315,8 +322,12 @@ impl StaticRing {
             let mut w = h.to_words(variant).to_vec();
             w.extend([ctrl(len, true)?, 0]);
             w.extend(std::iter::repeat_n(0, usize::from(len)));
-            plan.master_at_header.push(p);
-            plan.master_at_data.push(at_stored.then_some(p + 7));
+            if let Some(h) = plan.master_at_header.get_mut(i) {
+                *h = p;
+            }
+            if let Some(d) = plan.master_at_data.get_mut(i) {
+                *d = at_stored.then_some(p + 7);
+            }
             m_words.push((p, w));
             p = next;
         }

@@ -661,11 +661,13 @@ impl Receiver {
     /// `seg` starts inside the last segment. When that one was bits the receiver decoded
     /// from their start (a coded telegram taken whole: [`LineSegment::hint`], NRZI at the
     /// receiver's bit rate, no decoder running; or bits decoded, [`Running::before`]) and
-    /// `seg` is bits on their bit grid, the line showed the last segment's bits up to
+    /// `seg` is bits of their bit time, the line showed the last segment's bits up to
     /// `seg`'s start and `seg`'s from there (the RS-485 bus of 410B Fig. 4, where another
-    /// driver garbles a telegram in progress): the decoder is set up as it stood at the
-    /// cut, so that `seg` continues what it was decoding, and the frames reported from the
-    /// last segment that end after the cut are taken back ([`Receiver::take_retracted`]).
+    /// driver garbles a telegram in progress; a repeater's own telegram cutting one it
+    /// repeats, 410B §1): the decoder is set up as it stood at the cut (off the bit grid:
+    /// at the end of the bit the cut falls in, `seg`'s bits taken on the grid from there),
+    /// so that `seg` continues what it was decoding, and the frames reported from the last
+    /// segment that end after the cut are taken back ([`Receiver::take_retracted`]).
     /// Returns whether it did so.
     #[cold]
     #[inline(never)]
@@ -684,29 +686,32 @@ impl Receiver {
             || seg.bit_time != bt
             || seg.start < last.start
             || bt.as_picos() == 0
-            || offset % bt.as_picos() != 0
             || seg.level_before != last.level_at(seg.start)
         {
             return false;
         }
-        let Some(prefix) = usize::try_from(offset / bt.as_picos())
+        // Off the grid (a repeater's own telegram cutting one it repeats, 410B §1: the two
+        // come from different clocks), the bit the cut falls in counts whole and the new
+        // bits follow on the grid, as the DPLL, locked to the old bits, samples them (the
+        // RS-485 bus lays a second driver's bits onto the line's grid likewise).
+        let cut_bits = offset.div_ceil(bt.as_picos());
+        let Some(prefix) = usize::try_from(cut_bits)
             .ok()
-            .and_then(|k| bits.bits().slice(0, k))
+            .and_then(|k| bits.bits().slice(0, k.min(bits.bits().len())))
         else {
             return false;
         };
-        // The decoder as it stood at the last segment's start, the instant its bit
-        // positions count from, and the start of a coded telegram's frame (what the hinted
-        // path reported, `deliver_hinted`).
-        let (before, base, hinted) = match (&last.hint, self.running.as_deref()) {
-            (Some(hint), None) => (
+        // The decoder as it stood at the last segment's start, and the instant its bit
+        // positions count from (a coded telegram: a fresh decoder, as the hinted path
+        // reported its frame, `deliver_hinted`).
+        let (before, base) = match (&last.hint, self.running.as_deref()) {
+            (Some(_), None) => (
                 Decoder::new(rx_line_config(
                     RxdCoding::Nrzi,
                     cfg.polrxd,
                     last.level_before,
                 )),
                 last.start,
-                Some(hint.offset),
             ),
             (_, Some(r))
                 if r.seg_start == last.start
@@ -714,27 +719,26 @@ impl Receiver {
                     && r.bit_time == bt =>
             {
                 match &r.before {
-                    Some(d) => (d.clone(), r.base, None),
+                    Some(d) => (d.clone(), r.base),
                     None => return false,
                 }
             }
             _ => return false,
         };
         let at = |pos: u64| base.saturating_add(bt.saturating_mul(pos));
+        // The cut on the grid: the end of the bit it falls in.
+        let cut_at = last.start.saturating_add(bt.saturating_mul(cut_bits));
         // What the last segment reported, those frames ending after the cut taken back.
         let mut taken_back = Vec::new();
-        match hinted {
-            Some(offset) => taken_back.push((at(offset), false)),
-            None => before.clone().push(bits.bits(), |d| {
-                let (start, end) = match &d {
-                    Decoded::Telegram(f) => (f.start, f.end),
-                    Decoded::Error { error, .. } => (error.start(), error_end(error)),
-                };
-                if at(end) > seg.start {
-                    taken_back.push((at(start), false));
-                }
-            }),
-        }
+        before.clone().push(bits.bits(), |d| {
+            let (start, end) = match &d {
+                Decoded::Telegram(f) => (f.start, f.end),
+                Decoded::Error { error, .. } => (error.start(), error_end(error)),
+            };
+            if at(end) > cut_at {
+                taken_back.push((at(start), false));
+            }
+        });
         let mut decoder = before;
         // Frames ending before the cut stay as they were reported.
         decoder.push(prefix, |_| {});
