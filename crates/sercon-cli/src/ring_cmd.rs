@@ -57,7 +57,8 @@ pub struct RingArgs {
     transcript: Option<PathBuf>,
     /// Run on the simulator's reference path (every repeater's output taken from its chip,
     /// no slave run ahead): the same run as without, more slowly; a check of the fast path
-    /// on this ring.
+    /// on this ring. Without it, a run whose telegrams meet at a repeater where the fast
+    /// path cannot follow the chips is run again on the reference path by itself.
     #[arg(long)]
     reference: bool,
 }

@@ -214,3 +214,34 @@ fn intact_ring_counts_no_mst_error_through_the_phase_up() {
     }
     assert_eq!(lost_msts_between(&r, 0.0, f64::MAX), Vec::<u8>::new());
 }
+
+// spec-notes "Repeater collisions": drive 3's MCLK 8 % slow from the start of phase 4 moves
+// its AT into drive 4's at drive 4's output (410B §1: the own telegram cuts or shadows the
+// one repeated), where the simulator's fast path cannot follow the chips
+// (`SimStats::fast_path_collisions`). The ring is run again on the reference path, and the
+// report is that run's and says so: the same report as asked for on the reference path.
+#[test]
+fn a_run_the_fast_path_cannot_follow_is_the_reference_path_s() {
+    let spec = RingSpec {
+        run_for: Duration::from_millis(20),
+        faults: vec!["drift:3:-80000@0ms".parse().expect("a fault")],
+        ..RingSpec::default()
+    };
+    let fast = ring::run(&spec, &mut |_| {}).expect("the ring runs").report;
+    let n = fast
+        .fast_path_collisions
+        .expect("collisions on the fast path");
+    assert!(n > 0);
+    assert!(fast.to_text().contains("reference path's run"));
+    let reference = RingSpec {
+        reference: true,
+        ..spec
+    };
+    let mut asked = ring::run(&reference, &mut |_| {})
+        .expect("the ring runs")
+        .report;
+    assert_eq!(asked.fast_path_collisions, None);
+    asked.fast_path_collisions = Some(n);
+    assert_eq!(fast, asked);
+    assert_eq!(fast.result, RunResult::Phase4);
+}

@@ -141,11 +141,14 @@ fn telegrams_clear_of_each_other_are_no_collision() {
     assert!(at1.val && at1.nerr == 0 && at2.val && at2.nerr == 0);
 }
 
-/// Runs `base` with `trts` on both paths to `end`: the logs, the fast path's collisions,
-/// and every chip's registers and RAM on each.
-fn both_paths(base: &StaticRing, end: Instant) -> ([Vec<u8>; 2], u64, [Vec<Vec<u16>>; 2]) {
+/// Every node's registers then RAM (3H.15 REACTN of slaves left out).
+type States = Vec<Vec<u16>>;
+
+/// Runs `base` on the reference path and the fast path to `end`: their logs, the fast
+/// path's collisions, and their chips' states.
+fn both_paths(base: &StaticRing, end: Instant) -> ([Vec<u8>; 2], u64, [States; 2]) {
     let mut logs: [Vec<u8>; 2] = Default::default();
-    let mut states: [Vec<Vec<u16>>; 2] = Default::default();
+    let mut states: [States; 2] = Default::default();
     let mut collisions = 0;
     for (k, delivery) in [Delivery::Exact, Delivery::Fast].into_iter().enumerate() {
         let mut ring = base.clone();

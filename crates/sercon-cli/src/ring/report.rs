@@ -176,6 +176,11 @@ pub struct RingReport {
     pub events: Vec<RingEvent>,
     /// Every drive, in ring order.
     pub drives: Vec<DriveReport>,
+    /// Set when the run on the simulator's fast path had telegrams meet at a repeater's
+    /// output where the fast path cannot follow the chips (that many): the report is then
+    /// the reference path's run of the same ring (spec-notes "Repeater collisions").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fast_path_collisions: Option<u64>,
 }
 
 impl RingReport {
@@ -198,6 +203,12 @@ impl RingReport {
         )?;
         for f in &self.faults {
             writeln!(s, "fault: {f}")?;
+        }
+        if let Some(n) = self.fast_path_collisions {
+            writeln!(
+                s,
+                "telegrams met at repeaters {n} times on the simulator's fast path: this is the reference path's run"
+            )?;
         }
         writeln!(s, "\nphase timeline (master)")?;
         for e in &self.timeline {

@@ -72,7 +72,8 @@ pub struct RingSpec {
     /// Run on the simulator's reference path (`sercos_sim::Delivery::Exact`: every
     /// repeater's output taken from its chip, no slave run ahead) instead of its fast path;
     /// both give the same run, the reference one more slowly (a check of the fast path on
-    /// a ring of one's own).
+    /// a ring of one's own). A fast run whose telegrams meet at a repeater where the fast
+    /// path cannot follow the chips is run again on the reference path ([`super::run`]).
     pub reference: bool,
 }
 
