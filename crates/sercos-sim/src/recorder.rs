@@ -261,8 +261,11 @@ impl Recorder {
             .map(BitVec::from_bits)
             .unwrap_or_default();
         if let Some(b) = joined {
+            // From the level the line is at (a sender continues from it; NRZI reads an
+            // inverted telegram the same, and the receivers take it so, `Simulation::deliver`).
+            let invert = seg.level_before != prev.seg.level_at(seg.start);
             for bit in b.bits().iter() {
-                line.push(bit);
+                line.push(bit != invert);
             }
         }
         let bit_rate = bit_rate_of(&prev.seg);

@@ -86,6 +86,8 @@ fn counters(sim: &mut Simulation, plan: &RingPlan, n: usize) -> Counters {
 /// node's 2H at every sample.
 struct Outcome {
     log: Vec<u8>,
+    /// `SimStats::fast_path_collisions` at the end.
+    collisions: u64,
     before: Counters,
     after: Counters,
     bad_data: Vec<String>,
@@ -167,9 +169,11 @@ fn run_case(
             w
         })
         .collect();
+    let collisions = sim.stats().fast_path_collisions;
     let log = sim.finish().expect("traces").log;
     Outcome {
         log,
+        collisions,
         before,
         after,
         bad_data,
@@ -588,6 +592,74 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(
+        std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(12)
+    ))]
+
+    // Any ring with up to four faults of any kind and its ATs moved by up to ±30 µs, so
+    // that they may meet at repeaters (410B §1, §4.2.1 TRT; spec-notes "Repeater
+    // collisions"): no panic, no corrupted data in a receive buffer on the reference path
+    // (410B §4.2.2), and a fast run that reports no collision is the reference run (logs,
+    // counters, every chip's registers and RAM).
+    #[test]
+    fn any_faults_with_any_at_layout_give_the_reference_run_or_say_so(
+        slaves in 2usize..=5,
+        rate in 0usize..3,
+        fibre_m in prop_oneof![Just(10u32), 1u32..2000],
+        mdt_after_ats in any::<bool>(),
+        faults in proptest::collection::vec(
+            (any::<u8>(), 0usize..64, 0u64..4_000_000, 1u64..3_000_000, any::<u32>()),
+            0..=4,
+        ),
+        shifts in proptest::collection::vec(-30i32..=30, 5),
+        seed in 0u64..1000,
+    ) {
+        let (bit_rate, cycle) = [
+            (sercos_wire::time::BitRate::Mbit16, 250u64),
+            (sercos_wire::time::BitRate::Mbit4, 500),
+            (sercos_wire::time::BitRate::Mbit2, 1000),
+        ][rate];
+        let mut ring = ring_of(slaves, mdt_after_ats, seed);
+        ring.bit_rate = bit_rate;
+        ring.cycle_us = cycle as u16;
+        ring.fibre_m = fibre_m;
+        prop_assume!(ring.build().is_ok());
+        let (_, _, plan) = build(&ring);
+        ring.at_trt_override = Some(
+            plan.at_trt_us
+                .iter()
+                .zip(&shifts)
+                .map(|(t, s)| (i32::from(*t) + s).clamp(1, cycle as i32 - 1))
+                .map(|t| u16::try_from(t).unwrap_or(1))
+                .collect(),
+        );
+        let nodes = slaves + 1;
+        let cy = |c: u64| us(c * cycle);
+        let faults: Vec<Fault> = faults
+            .iter()
+            .map(|(k, target, at, len, x)| {
+                let at = cy(4) + Duration::from_nanos(at * cycle / 1000);
+                let len = Duration::from_nanos(len * cycle / 1000);
+                any_fault(*k, *target, at, len, *x, nodes)
+            })
+            .collect();
+        let step = Duration::from_micros(23);
+        let mut outs = Vec::new();
+        for delivery in [Delivery::Exact, Delivery::Fast] {
+            let mut r = ring.clone();
+            r.delivery = delivery;
+            outs.push(run_case(&r, &faults, cy(3), cy(10), step));
+        }
+        let case = format!("{faults:?} shifts {shifts:?} mdt_after_ats {mdt_after_ats}");
+        prop_assert!(outs[0].bad_data.is_empty(), "{:?}: {}", outs[0].bad_data, case);
+        prop_assert_eq!(outs[0].collisions, 0);
+        if outs[1].collisions == 0 {
+            same_runs(&outs[0], &outs[1], &case);
+        }
+    }
+}
+
 /// Node `node`'s FIBBR (2H.13) in every sample of `o`, with the sample's time in ps.
 fn fibbr(o: &Outcome, node: usize) -> Vec<(u64, bool)> {
     o.status
@@ -823,6 +895,7 @@ fn drift_case(ppm: &[f64], flip: Instant, t1: Instant, mdt_after_ats: bool) -> (
         let log = sim.finish().expect("traces").log;
         outs.push(Outcome {
             log,
+            collisions: 0,
             before,
             after,
             bad_data: Vec::new(),
