@@ -124,9 +124,15 @@ pub fn run(args: RingArgs) -> Result<()> {
         if let Some(bar) = &bar {
             bar.set_position(p.operating.as_micros());
             bar.set_message(format!(
-                "t = {:.3} s, phase {}",
+                "t = {:.3} s, phase {}{}",
                 p.now.as_secs_f64(),
-                p.phase
+                p.phase,
+                // A fast run whose telegrams met at a repeater is run again (`ring::run`).
+                if p.reference && !spec.reference {
+                    ", again on the reference path (telegrams met at a repeater)"
+                } else {
+                    ""
+                }
             ));
         }
     })?;

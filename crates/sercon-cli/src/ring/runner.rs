@@ -36,6 +36,9 @@ pub struct RunProgress {
     pub operating: Duration,
     /// Phase-4 operation asked for.
     pub run_for: Duration,
+    /// The run is on the simulator's reference path (asked for, or run again there after
+    /// the fast path's collisions, [`run`]).
+    pub reference: bool,
 }
 
 /// A finished run: its report, the traces, and the master's service-channel transcript
@@ -168,6 +171,7 @@ fn run_once(
                 phase: ring.master.borrow().master.phase(),
                 operating: next.saturating_duration_since(start),
                 run_for: spec.run_for,
+                reference: spec.reference,
             };
             on_cycle(&mut ring, &p);
         }
@@ -213,6 +217,7 @@ fn phase_up(
                 phase,
                 operating: Duration::from_picos(0),
                 run_for: spec.run_for,
+                reference: spec.reference,
             },
         );
         match progress {
