@@ -275,6 +275,8 @@ pub struct RunningStack {
     /// Wall seconds of the phase-up.
     pub phaseup_wall_s: f64,
     cycles_done: u64,
+    /// The instant the run went up to (its own schedule, `phase_up_to`).
+    at: Instant,
 }
 
 /// Cyclic data bytes of the master's default telegram type 7 (`MasterConfig::new`): AT
@@ -431,21 +433,33 @@ pub fn phase_up(
     cycle: Duration,
     limit: Duration,
 ) -> Result<Duration, FullStackError> {
+    phase_up_to(ring, cycle, limit).map(|(arrival, _)| arrival)
+}
+
+/// [`phase_up`], and the instant the run went up to. The run keeps its own schedule: the
+/// simulation's time may lie past the instant it ran to, by as far as a host's bus access
+/// ran on (`sercon_cli::ring::run` likewise).
+fn phase_up_to(
+    ring: &mut BuiltRing,
+    cycle: Duration,
+    limit: Duration,
+) -> Result<(Duration, Instant), FullStackError> {
     let end = Instant::ZERO.saturating_add(limit);
     let step = cycle.saturating_mul(16);
+    let mut at = Instant::ZERO;
     loop {
         let progress = ring.master.borrow().master.progress();
         if progress == Progress::Cyclic {
             let m = ring.master.borrow();
-            let at = m
+            let arrival = m
                 .timeline
                 .iter()
                 .rev()
                 .find(|(_, _, p)| *p == Progress::Cyclic)
-                .map_or(ring.sim.now(), |(t, _, _)| *t);
-            return Ok(at.since_start());
+                .map_or(at, |(t, _, _)| *t);
+            return Ok((arrival.since_start(), at));
         }
-        if progress == Progress::Halted || ring.sim.now() >= end {
+        if progress == Progress::Halted || at >= end {
             let m = ring.master.borrow();
             return Err(FullStackError::NoPhase4 {
                 limit_s: limit.as_secs_f64(),
@@ -453,8 +467,9 @@ pub fn phase_up(
                 progress,
             });
         }
-        let next = ring.sim.now().saturating_add(step).min(end);
+        let next = at.saturating_add(step).min(end);
         ring.sim.run_until(next).map_err(RingError::Sim)?;
+        at = next;
     }
 }
 
@@ -470,7 +485,7 @@ impl RunningStack {
         let cycle = Duration::from_micros(u64::from(s.cycle_us));
         let wall = WallInstant::now();
         let mut ring = build(s)?;
-        let phaseup_sim = phase_up(&mut ring, cycle, spec.phase_up_limit)?;
+        let (phaseup_sim, at) = phase_up_to(&mut ring, cycle, spec.phase_up_limit)?;
         let phaseup_wall_s = wall.elapsed().as_secs_f64();
         let addresses = spec
             .drives
@@ -484,6 +499,7 @@ impl RunningStack {
             phaseup_sim,
             phaseup_wall_s,
             cycles_done: 0,
+            at,
         })
     }
 
@@ -508,8 +524,9 @@ impl RunningStack {
                     }
                 }
             }
-            let next = self.ring.sim.now().saturating_add(self.cycle);
+            let next = self.at.saturating_add(self.cycle);
             self.ring.sim.run_until(next).map_err(RingError::Sim)?;
+            self.at = next;
             self.cycles_done += 1;
         }
         Ok(())

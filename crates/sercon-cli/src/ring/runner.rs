@@ -113,7 +113,7 @@ fn run_once(
         None
     } else {
         let mut probe = setup::build(spec, Vec::new(), false)?;
-        phase_up(&mut probe, spec, cycle, &mut |_, _| {})?
+        phase_up(&mut probe, spec, cycle, &mut |_, _| {})?.0
     };
     let faults = match origin {
         Some(t) => setup::sim_faults(spec, t, t.saturating_add(spec.run_for))?,
@@ -129,10 +129,14 @@ fn run_once(
         events: Vec::new(),
     };
     let mut on_cycle = |ring: &mut BuiltRing, p: &RunProgress| {
-        sample(ring, spec, &mut watch);
+        sample(ring, spec, &mut watch, Instant::ZERO.saturating_add(p.now));
         progress(p);
     };
-    let reached = phase_up(&mut ring, spec, cycle, &mut on_cycle)?;
+    // The runner keeps its own time (the instants it ran to): the simulation's may lie past
+    // them, by as far as a host's bus access ran on, and by how far depends on the path
+    // (the reference path runs more events inside an access), so the commands and the next
+    // instant are taken from the run's own schedule, the same on both.
+    let (reached, mut at) = phase_up(&mut ring, spec, cycle, &mut on_cycle)?;
     if let Some(start) = reached {
         let end = start.saturating_add(spec.run_for);
         let addresses: Vec<Option<DriveAddress>> = spec
@@ -144,8 +148,8 @@ fn run_once(
         // operation mode bits 9-8 = 0 choose S-0-0032, velocity control.
         let control =
             ControlWord::DRIVE_ON | ControlWord::DRIVE_ENABLE | ControlWord::DRIVE_HALT_RESTART;
-        while ring.sim.now() < end {
-            let now = ring.sim.now();
+        while at < end {
+            let now = at;
             let elapsed = now.saturating_duration_since(start);
             {
                 let mut m = ring.master.borrow_mut();
@@ -166,6 +170,7 @@ fn run_once(
             }
             let next = now.saturating_add(cycle).min(end);
             ring.sim.run_until(next).map_err(RingError::Sim)?;
+            at = next;
             let p = RunProgress {
                 now: next.since_start(),
                 phase: ring.master.borrow().master.phase(),
@@ -183,7 +188,7 @@ fn run_once(
         Vec::new()
     };
     let collisions = ring.sim.stats().fast_path_collisions;
-    let report = gather(&mut ring, spec, reached, watch);
+    let report = gather(&mut ring, spec, reached, watch, at);
     Ok((
         RingOutcome {
             report,
@@ -195,17 +200,19 @@ fn run_once(
 }
 
 /// Runs cycle by cycle until the master is in cyclic operation (phase 4), halts, or the
-/// limit passes; the time it got there.
+/// limit passes; the time it got there, and the instant the run went up to.
 fn phase_up(
     ring: &mut BuiltRing,
     spec: &RingSpec,
     cycle: Duration,
     on_cycle: &mut dyn FnMut(&mut BuiltRing, &RunProgress),
-) -> Result<Option<Instant>, RingError> {
+) -> Result<(Option<Instant>, Instant), RingError> {
     let limit = Instant::ZERO.saturating_add(spec.phase_up_limit);
-    while ring.sim.now() < limit {
-        let next = ring.sim.now().saturating_add(cycle).min(limit);
+    let mut at = Instant::ZERO;
+    while at < limit {
+        let next = at.saturating_add(cycle).min(limit);
         ring.sim.run_until(next).map_err(RingError::Sim)?;
+        at = next;
         let (phase, progress) = {
             let m = ring.master.borrow();
             (m.master.phase(), m.master.progress())
@@ -230,13 +237,13 @@ fn phase_up(
                     .rev()
                     .find(|(_, _, p)| *p == Progress::Cyclic)
                     .map_or(next, |(t, _, _)| *t);
-                return Ok(Some(at));
+                return Ok((Some(at), next));
             }
-            Progress::Halted => return Ok(None),
+            Progress::Halted => return Ok((None, next)),
             _ => {}
         }
     }
-    Ok(None)
+    Ok((None, at))
 }
 
 /// Name of node `i` (0 the master).
@@ -247,9 +254,9 @@ fn node_name(spec: &RingSpec, i: usize) -> String {
     }
 }
 
-/// Samples power, line status and MST counters of every node.
-fn sample(ring: &mut BuiltRing, spec: &RingSpec, w: &mut Watch) {
-    let now = ring.sim.now();
+/// Samples power, line status and MST counters of every node at `now`, the instant the run
+/// went up to.
+fn sample(ring: &mut BuiltRing, spec: &RingSpec, w: &mut Watch, now: Instant) {
     let n = ring.drives.len() + 1;
     let mut first_dark = None;
     // Ring order after the master: drive 1 … drive n, then the master's own receiver.
@@ -367,6 +374,7 @@ fn gather(
     spec: &RingSpec,
     reached: Option<Instant>,
     watch: Watch,
+    end: Instant,
 ) -> RingReport {
     let m = ring.master.borrow();
     let status = m.master.status();
@@ -451,7 +459,7 @@ fn gather(
             RunResult::NotReached
         },
         phase4_at_s: reached.map(secs),
-        sim_time_s: secs(ring.sim.now()),
+        sim_time_s: secs(end),
         final_phase: status.phase,
         final_progress: format!("{:?}", status.progress),
         cycles: status.cycles,
