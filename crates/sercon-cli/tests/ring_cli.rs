@@ -353,24 +353,31 @@ fn the_reference_path_gives_the_fast_path_s_run_with_faults() {
         "--fault",
         "power:1@0.1s..0.15s",
     ];
+    let (report, differ) = fast_and_reference(&args);
+    assert!(
+        report["events"].as_array().is_some_and(|e| e.len() > 3),
+        "{report}"
+    );
+    assert!(differ.is_empty(), "differ: {differ:?}");
+}
+
+/// `args` run traced on the fast path and with `--reference`: the fast run's report and the
+/// files (report, log, VCD, transcript, pcap) in which the two differ.
+fn fast_and_reference(args: &[&str]) -> (serde_json::Value, Vec<&'static str>) {
     let fast_dir = tempfile::tempdir().expect("a temporary directory");
-    let fast = traced_run(fast_dir.path(), &args);
+    let fast = traced_run(fast_dir.path(), args);
     let mut with = args.to_vec();
     with.push("--reference");
     let reference_dir = tempfile::tempdir().expect("a temporary directory");
     let reference = traced_run(reference_dir.path(), &with);
     let report: serde_json::Value = serde_json::from_slice(&fast[0]).expect("a JSON report");
-    assert!(
-        report["events"].as_array().is_some_and(|e| e.len() > 3),
-        "{report}"
-    );
-    let differ: Vec<&str> = ["report", "log", "VCD", "transcript", "pcap"]
+    let differ = ["report", "log", "VCD", "transcript", "pcap"]
         .into_iter()
         .zip(fast.iter().zip(&reference))
         .filter(|(_, (f, r))| f != r)
         .map(|(name, _)| name)
         .collect();
-    assert!(differ.is_empty(), "differ: {differ:?}");
+    (report, differ)
 }
 
 // Found by running random `sercon ring`s on both paths (session 16): with 4 drives at
@@ -392,19 +399,7 @@ fn the_runner_s_schedule_is_the_same_on_both_paths() {
         "--seed",
         "68",
     ];
-    let fast_dir = tempfile::tempdir().expect("a temporary directory");
-    let fast = traced_run(fast_dir.path(), &args);
-    let mut with = args.to_vec();
-    with.push("--reference");
-    let reference_dir = tempfile::tempdir().expect("a temporary directory");
-    let reference = traced_run(reference_dir.path(), &with);
-    let report: serde_json::Value = serde_json::from_slice(&fast[0]).expect("a JSON report");
+    let (report, differ) = fast_and_reference(&args);
     assert_eq!(report["result"], "phase4", "{report}");
-    let differ: Vec<&str> = ["report", "log", "VCD", "transcript", "pcap"]
-        .into_iter()
-        .zip(fast.iter().zip(&reference))
-        .filter(|(_, (f, r))| f != r)
-        .map(|(name, _)| name)
-        .collect();
     assert!(differ.is_empty(), "differ: {differ:?}");
 }

@@ -232,13 +232,7 @@ impl Recorder {
         let LineSignal::Bits(prev_bits) = &prev.seg.signal else {
             return;
         };
-        let from = prev.seg.start.as_picos();
-        let kept: Vec<Reverse<Pending>> = std::mem::take(&mut self.pending)
-            .into_vec()
-            .into_iter()
-            .filter(|Reverse(p)| p.segment != id || p.time < from)
-            .collect();
-        self.pending = kept.into();
+        self.take_back_from(id, prev.seg.start);
         let bt = prev.seg.bit_time;
         let elapsed = seg
             .start
@@ -302,13 +296,7 @@ impl Recorder {
         let (Ok(id), LineSignal::Bits(bits)) = (u16::try_from(segment), &seg.signal) else {
             return;
         };
-        let from = seg.start.as_picos();
-        let kept: Vec<Reverse<Pending>> = std::mem::take(&mut self.pending)
-            .into_vec()
-            .into_iter()
-            .filter(|Reverse(p)| p.segment != id || p.time < from)
-            .collect();
-        self.pending = kept.into();
+        self.take_back_from(id, seg.start);
         let bit_rate = bit_rate_of(seg);
         for (pos, what) in decode_bits(seg.level_before, bits) {
             let t = seg.start.saturating_add(seg.bit_time.saturating_mul(pos));
@@ -318,6 +306,17 @@ impl Recorder {
         if let Some(e) = self.entered.get_mut(segment) {
             *e = None;
         }
+    }
+
+    /// Drops the records of segment `id` from `from` on, not yet written.
+    fn take_back_from(&mut self, id: u16, from: Instant) {
+        let from = from.as_picos();
+        let kept: Vec<Reverse<Pending>> = std::mem::take(&mut self.pending)
+            .into_vec()
+            .into_iter()
+            .filter(|Reverse(p)| p.segment != id || p.time < from)
+            .collect();
+        self.pending = kept.into();
     }
 
     /// Queues a record at `time`, written no earlier than `safe` (ps).

@@ -156,19 +156,7 @@ fn run_case(
                 .read_register(Register::IntFlagsLo.address())
         })
         .collect();
-    let states = (0..=n)
-        .map(|i| {
-            let c = sim.chip_mut(i).expect("node");
-            let mut w: Vec<u16> = (0u8..0x40).map(|a| c.read_register(a)).collect();
-            // 3H.15 REACTN: the fast path gives slaves no other slave's AT (spec-notes
-            // "Fast path = reference path", limit).
-            if i > 0 {
-                w[3] &= !(1 << 15);
-            }
-            w.extend((0..2048).map(|a| c.read_ram(a)));
-            w
-        })
-        .collect();
+    let states = node_states(&mut sim, n);
     let collisions = sim.stats().fast_path_collisions;
     let log = sim.finish().expect("traces").log;
     Outcome {
@@ -567,29 +555,45 @@ proptest! {
         ),
         seed in 0u64..1000,
     ) {
-        let (bit_rate, cycle) = [
-            (sercos_wire::time::BitRate::Mbit16, 250u64),
-            (sercos_wire::time::BitRate::Mbit4, 500),
-            (sercos_wire::time::BitRate::Mbit2, 1000),
-        ][rate];
-        let mut ring = ring_of(slaves, mdt_after_ats, seed);
-        ring.bit_rate = bit_rate;
-        ring.cycle_us = cycle as u16;
-        ring.fibre_m = fibre_m;
+        let (ring, cycle) = mixed_ring(slaves, rate, fibre_m, mdt_after_ats, seed);
         prop_assume!(ring.build().is_ok());
-        let nodes = slaves + 1;
-        let cy = |c: u64| us(c * cycle);
-        // Faults from cycle 4 on, lasting up to three cycles, within cycles 4 to 8.
-        let faults: Vec<Fault> = faults
-            .iter()
-            .map(|(k, target, at, len, x)| {
-                let at = cy(4) + Duration::from_nanos(at * cycle / 1000);
-                let len = Duration::from_nanos(len * cycle / 1000);
-                any_fault(*k, *target, at, len, *x, nodes)
-            })
-            .collect();
+        let faults = mixed_faults(&faults, cycle, slaves + 1);
         check_mixed(&ring, &faults, cycle);
     }
+}
+
+/// The mixed property tests' ring: `slaves` slaves at bit rate `rate` (16, 4 or 2 Mbit/s,
+/// with a cycle of 250, 500 or 1000 µs), `fibre_m` fibres; and its cycle in µs.
+fn mixed_ring(
+    slaves: usize,
+    rate: usize,
+    fibre_m: u32,
+    mdt_after_ats: bool,
+    seed: u64,
+) -> (StaticRing, u64) {
+    let (bit_rate, cycle) = [
+        (sercos_wire::time::BitRate::Mbit16, 250u64),
+        (sercos_wire::time::BitRate::Mbit4, 500),
+        (sercos_wire::time::BitRate::Mbit2, 1000),
+    ][rate % 3];
+    let mut ring = ring_of(slaves, mdt_after_ats, seed);
+    ring.bit_rate = bit_rate;
+    ring.cycle_us = cycle as u16;
+    ring.fibre_m = fibre_m;
+    (ring, cycle)
+}
+
+/// The mixed property tests' faults (kind, target, start and length in thousandths of a
+/// cycle, a parameter): from cycle 4 on, lasting up to three cycles, within cycles 4 to 8.
+fn mixed_faults(faults: &[(u8, usize, u64, u64, u32)], cycle: u64, nodes: usize) -> Vec<Fault> {
+    faults
+        .iter()
+        .map(|(k, target, at, len, x)| {
+            let at = us(4 * cycle) + Duration::from_nanos(at * cycle / 1000);
+            let len = Duration::from_nanos(len * cycle / 1000);
+            any_fault(*k, *target, at, len, *x, nodes)
+        })
+        .collect()
 }
 
 proptest! {
@@ -615,15 +619,7 @@ proptest! {
         shifts in proptest::collection::vec(-30i32..=30, 5),
         seed in 0u64..1000,
     ) {
-        let (bit_rate, cycle) = [
-            (sercos_wire::time::BitRate::Mbit16, 250u64),
-            (sercos_wire::time::BitRate::Mbit4, 500),
-            (sercos_wire::time::BitRate::Mbit2, 1000),
-        ][rate];
-        let mut ring = ring_of(slaves, mdt_after_ats, seed);
-        ring.bit_rate = bit_rate;
-        ring.cycle_us = cycle as u16;
-        ring.fibre_m = fibre_m;
+        let (mut ring, cycle) = mixed_ring(slaves, rate, fibre_m, mdt_after_ats, seed);
         prop_assume!(ring.build().is_ok());
         let (_, _, plan) = build(&ring);
         ring.at_trt_override = Some(
@@ -634,16 +630,8 @@ proptest! {
                 .map(|t| u16::try_from(t).unwrap_or(1))
                 .collect(),
         );
-        let nodes = slaves + 1;
+        let faults = mixed_faults(&faults, cycle, slaves + 1);
         let cy = |c: u64| us(c * cycle);
-        let faults: Vec<Fault> = faults
-            .iter()
-            .map(|(k, target, at, len, x)| {
-                let at = cy(4) + Duration::from_nanos(at * cycle / 1000);
-                let len = Duration::from_nanos(len * cycle / 1000);
-                any_fault(*k, *target, at, len, *x, nodes)
-            })
-            .collect();
         let step = Duration::from_micros(23);
         let mut outs = Vec::new();
         for delivery in [Delivery::Exact, Delivery::Fast] {
@@ -881,17 +869,7 @@ fn drift_case(ppm: &[f64], flip: Instant, t1: Instant, mdt_after_ats: bool) -> (
         let before = counters(&mut sim, &plan, ppm.len());
         sim.run_until(t1).expect("runs");
         let after = counters(&mut sim, &plan, ppm.len());
-        let states: Vec<Vec<u16>> = (0..=ppm.len())
-            .map(|i| {
-                let c = sim.chip_mut(i).expect("node");
-                let mut w: Vec<u16> = (0u8..0x40).map(|a| c.read_register(a)).collect();
-                if i > 0 {
-                    w[3] &= !(1 << 15);
-                }
-                w.extend((0..2048).map(|a| c.read_ram(a)));
-                w
-            })
-            .collect();
+        let states = node_states(&mut sim, ppm.len());
         let log = sim.finish().expect("traces").log;
         outs.push(Outcome {
             log,

@@ -8,7 +8,6 @@ mod ring_support;
 
 use ring_support::*;
 use sercon_model::serial_port::REPEATER_LATENCY_BITS;
-use sercon_regs::SerconBus;
 use sercos_sim::static_ring::StaticRing;
 use sercos_sim::{Delivery, SimStats};
 use sercos_wire::time::{Duration, Instant};
@@ -159,18 +158,7 @@ fn both_paths(base: &StaticRing, end: Instant) -> ([Vec<u8>; 2], u64, [States; 2
             collisions = sim.stats().fast_path_collisions;
         }
         logs[k] = out.log;
-        states[k] = (0..=ring.slaves)
-            .map(|i| {
-                let c = sim.chip_mut(i).expect("node");
-                let mut w: Vec<u16> = (0u8..0x40).map(|a| c.read_register(a)).collect();
-                if i > 0 {
-                    // 3H.15 REACTN: the fast path gives slaves no other slave's AT.
-                    w[3] &= !(1 << 15);
-                }
-                w.extend((0..2048).map(|a| c.read_ram(a)));
-                w
-            })
-            .collect();
+        states[k] = node_states(&mut sim, ring.slaves);
     }
     (logs, collisions, states)
 }

@@ -114,3 +114,22 @@ impl HostProgram for ReadingHost {
         }
     }
 }
+
+/// Every node's registers (0H–3FH) then RAM (2048 words), node 0 the master, as the fast path
+/// and the reference path are compared: a slave's 3H.15 REACTN left out (the fast path gives
+/// slaves no other slave's AT; spec-notes "Fast path = reference path", limit).
+pub fn node_states(sim: &mut Simulation, slaves: usize) -> Vec<Vec<u16>> {
+    (0..=slaves)
+        .map(|i| {
+            let Some(c) = sim.chip_mut(i) else {
+                return Vec::new();
+            };
+            let mut w: Vec<u16> = (0u8..0x40).map(|a| c.read_register(a)).collect();
+            if i > 0 {
+                w[3] &= !(1 << 15);
+            }
+            w.extend((0..2048).map(|a| c.read_ram(a)));
+            w
+        })
+        .collect()
+}
