@@ -61,7 +61,7 @@ fn request() -> impl Strategy<Value = Request> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(64)))]
 
     // Arbitrary store contents and request sequences: no panic, every request completes
     // (the time limit bounds reads whose length word is large), fixed-length reads return

@@ -51,7 +51,7 @@ impl SerconBus for ChaosBus {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(64)))]
 
     // 410B §4.1: any flags, PHASREC, VERSION; §4.2: any RAM words — the driver never panics
     // and never leaves a phase 0-4.

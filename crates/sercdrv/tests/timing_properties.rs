@@ -143,7 +143,7 @@ fn any_drive() -> impl Strategy<Value = DriveParameters> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(1000))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(1000)))]
 
     #[test]
     fn every_plan_keeps_every_relation(req in request()) {

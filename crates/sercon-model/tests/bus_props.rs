@@ -143,7 +143,7 @@ fn check(cfg: ChipConfig, ops: &[Op], traced: bool) -> Result<(), TestCaseError>
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(256)))]
 
     #[test]
     fn any_bus_sequence_keeps_the_model_consistent(

@@ -69,7 +69,7 @@ fn frames_of(start: Instant, line: &[bool]) -> Vec<RxFrame> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(256)))]
 
     // A telegram cut at bit `k2` by bits `b2`, those cut at their bit `k3` by bits `b3`
     // and a steady tail (the undriven bus); the chip run to a point before each cut.
@@ -120,7 +120,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(256)))]
 
     // A telegram cut off its bit grid (a repeater's own telegram cutting one it repeats,
     // 410B §1: the two come from different clocks): the bit the cut falls in counts whole

@@ -123,7 +123,7 @@ fn telegram() -> impl Strategy<Value = Telegram> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(200)))]
     // 410B §1 "The slaves regenerate and repeat their received data or send their own
     // telegrams": a repeater that only follows its copies releases exactly the rest of what
     // it releases with them (own telegrams from the same level, what resumes after one), and

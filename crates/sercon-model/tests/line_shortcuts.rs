@@ -179,7 +179,7 @@ fn run(steps: &[Step], repon: bool, implied: bool) -> [Chip; 2] {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(200)))]
     #[test]
     fn implied_filler_leaves_every_chip_as_the_explicit_filler(
         steps in proptest::collection::vec(step(), 1..30),
@@ -342,7 +342,7 @@ fn receiver_case(bits: &[bool], gap_bits: i64, mid_bits: u64, next_kind: u8, dis
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(300))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(300)))]
     // 410B §4.1 2H.13 FIBBR: bits without edges for longer than FIBBR_BIT_TIMES raise FIBBR
     // before their filler starts; a segment cutting the filler (or the bits) takes back only
     // what had not happened.
@@ -417,7 +417,7 @@ fn released(steps: &[Step], forward: bool) -> (Vec<LineSegment>, Vec<Instant>) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(200)))]
     // 410B §1 "The slaves regenerate and repeat their received data or send their own
     // telegrams": without its forwarded copies a repeater releases exactly the rest of what
     // it releases with them (own telegrams, what resumes after one), at the same levels.

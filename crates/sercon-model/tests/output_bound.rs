@@ -409,7 +409,7 @@ fn a_host_write_to_a_header_ahead_drops_the_remembered_walk() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(32))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(32)))]
 
     // Any pair shape (cycle, telegram times, fibre delay, the master repeating too).
     #[test]

@@ -94,7 +94,7 @@ fn the_bench_pair_runs_as_the_stepped_pair() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(24))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(24)))]
 
     #[test]
     fn any_pair_runs_as_the_stepped_pair(shape in any_shape()) {

@@ -306,7 +306,7 @@ fn same_alone(
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(48)))]
 
     #[test]
     fn quiet_cycle_ends_in_a_ring_read_as_steps(

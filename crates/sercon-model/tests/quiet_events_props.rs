@@ -42,7 +42,7 @@ fn host_view(c: &mut Chip) -> (Vec<u16>, u64) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(40))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(40)))]
 
     #[test]
     fn quiet_events_read_the_same_as_events(

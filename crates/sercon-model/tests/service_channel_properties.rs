@@ -34,7 +34,7 @@ fn in_window(variant: Variant, base: u16, address: usize) -> bool {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(512))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(512)))]
 
     // 410B §4.2.4 (both tables); ERRATA "word addresses".
     #[test]

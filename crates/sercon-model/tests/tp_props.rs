@@ -12,7 +12,7 @@ use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity};
 use sercos_wire::time::{Duration, Instant};
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(48)))]
 
     #[test]
     fn arbitrary_ram_and_frames_never_panic(

@@ -14,7 +14,7 @@ fn any_idn(known: Vec<Idn>) -> impl Strategy<Value = Idn> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(512))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(512)))]
 
     #[test]
     fn arbitrary_writes_never_corrupt(

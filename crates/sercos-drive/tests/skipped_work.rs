@@ -156,7 +156,7 @@ fn step() -> impl Strategy<Value = Step> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(64)))]
 
     /// The command inputs and diagnostics the drive keeps between cycles give what reading
     /// the database afresh every cycle gives (sercos-telegrams.md control word bits 15-13,

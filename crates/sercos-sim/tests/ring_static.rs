@@ -430,7 +430,7 @@ fn sleeping_through_receive_events_leaves_every_chip_as_the_exact_path() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(12))]
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(12)))]
 
     // The same for any small ring: bit rate, cycle, data words, fibre length, and a run that
     // ends anywhere in a cycle (chips asleep in the middle of their receive events).

@@ -399,7 +399,7 @@ fn check_bus(ring: &mut StaticRing, plan: &RingPlan, collide: bool, slaves: usiz
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(16))]
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(16)))]
 
     // 410B §4.2.1 (RERR, NERR, VAL); spec-notes "RS-485 bus": for any overlap of slave 2's
     // AT with slave 1's (its TRT and clock error), the master's view of both ATs is what the

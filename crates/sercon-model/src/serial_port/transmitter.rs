@@ -769,7 +769,7 @@ mod tests {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig::with_cases(512))]
+        #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(512)))]
 
         /// The release's short paths leave exactly the state of the general loop's turns
         /// one by one, after every release (carried copies, background, own telegrams with

@@ -431,7 +431,7 @@ pub(super) fn any_ring_and_faults()
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(64)))]
 
     // Any small ring with faults: the same run with the slaves running ahead as without
     // (telegram log, counters, every chip after every step).

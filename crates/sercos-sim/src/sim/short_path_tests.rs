@@ -122,7 +122,7 @@ fn faults_run_the_same_without_the_short_paths() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(32))]
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(32)))]
 
     // Any small ring (ATs anywhere after the MST) with up to three faults of any kind:
     // the same run with the short paths as without.
