@@ -487,7 +487,11 @@ impl Simulation {
         self.lookahead = l;
     }
 
-    /// The current simulation time.
+    /// The current simulation time: after [`Simulation::run_until`]`(t)` at least `t`, and
+    /// later where a host's bus access ran on past `t` (the events run inside the access
+    /// carry it; how far depends on the path, [`Delivery`]). A program that drives a run
+    /// step by step schedules its steps from the instants it asked for, not from this
+    /// (spec-notes "The runner's schedule").
     pub fn now(&self) -> Instant {
         self.now
     }
