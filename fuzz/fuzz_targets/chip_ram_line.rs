@@ -47,8 +47,6 @@ fuzz_target!(|data: &[u8]| {
     // A running chip: 1 µs unit, cycles of 50 µs, telegrams on, master or slave.
     common::start_running(&mut chip, h0, &common::image_words(image));
     let mut out = Vec::new();
-    let mut events = Vec::new();
-    let mut frames = Vec::new();
     let mut next_start = chip.now();
     let mut records = common::Records::new(body);
     // The promise for any line input (`Chip::next_output_for_any_input`), as last asked after
@@ -97,41 +95,7 @@ fuzz_target!(|data: &[u8]| {
                 next_start = seg.end().unwrap_or(start);
                 chip.line_input(seg);
             }
-            2 => {
-                let step = Duration::from_nanos(100 * (u64::from(u16::from_be_bytes([b, c])) + 1));
-                let t = chip.now().saturating_add(step);
-                // The promise a simulation sleeps on: nothing released starts before it.
-                let promise = match (chip.next_output_bound(), chip.next_line_output_at()) {
-                    (Some(x), Some(y)) => Some(x.min(y)),
-                    (x, y) => x.or(y),
-                };
-                if h0 & 32 != 0 && promise.is_some_and(|p| t < p) {
-                    chip.advance_before_output(t);
-                } else {
-                    chip.advance_to(t);
-                }
-                chip.take_line_output(&mut out);
-                for seg in &out {
-                    assert!(
-                        promise.is_some_and(|p| seg.start >= p),
-                        "output at {:?} before the promise {promise:?}",
-                        seg.start
-                    );
-                    assert!(
-                        any_input.is_none_or(|p| seg.start >= p),
-                        "output at {:?} before the promise for any input {any_input:?}",
-                        seg.start
-                    );
-                }
-                any_input = chip.next_output_for_any_input();
-                chip.drain_pin_events(&mut events);
-                chip.take_rx_frames(&mut frames);
-                out.clear();
-                events.clear();
-                frames.clear();
-                let _ = chip.next_deadline();
-                let _ = chip.next_event_at();
-            }
+            2 => common::advance_record(&mut chip, h0, b, c, &mut any_input),
             _ => {
                 let _ = chip.read_ram(u16::from_be_bytes([a, b]));
                 let _ = chip.read_register(c);

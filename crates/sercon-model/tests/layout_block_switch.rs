@@ -11,11 +11,14 @@
 
 use sercon_model::{Chip, ChipConfig};
 use sercon_regs::SerconBus;
-use sercos_wire::time::Duration;
 
-/// The fuzz target's set-up (`fuzz/fuzz_targets/common/mod.rs::start_running`) and its records
-/// 0 (register write) and 2 (advance, asking the output bound first); this input has no
-/// others.
+/// The fuzz targets' set-up and `chip_ram_line`'s advance record, as the fuzz target runs them.
+#[path = "../../../fuzz/fuzz_targets/common/mod.rs"]
+#[allow(dead_code)]
+mod fuzz_common;
+
+/// `chip_ram_line`'s run of `data` (its records 0, register write, and 2, advance; this input
+/// has no others).
 fn replay(data: &[u8]) -> Chip {
     let (&h0, rest) = data.split_first().expect("a header byte");
     let mut chip = Chip::new(if h0 & 1 == 0 {
@@ -26,43 +29,16 @@ fn replay(data: &[u8]) -> Chip {
     chip.set_implied_filler(h0 & 8 != 0);
     chip.set_forward_output(h0 & 16 == 0);
     let (image, body) = rest.split_at(rest.len().min(512));
-    let words: Vec<u16> = image
-        .chunks(2)
-        .map(|p| u16::from_le_bytes([p[0], p.get(1).copied().unwrap_or(0)]))
-        .collect();
-    for a in 0..chip.config().variant.ram_words() {
-        chip.write_ram(a, words[usize::from(a) % words.len()]);
-    }
-    chip.write_register(0x0E, if h0 & 1 == 0 { 31 } else { 19 });
-    chip.write_register(0x0F, 50);
-    chip.write_register(0x03, 1 << 8);
-    chip.write_register(0x0C, if h0 & 4 != 0 { 0b11 | (1 << 10) } else { 1 });
-    for r in body.chunks_exact(4) {
-        let (op, a, b, c) = (r[0], r[1], r[2], r[3]);
+    fuzz_common::start_running(&mut chip, h0, &fuzz_common::image_words(image));
+    let mut any_input = None;
+    let mut records = fuzz_common::Records::new(body);
+    while let Some([op, a, b, c]) = records.next_record() {
         match op % 4 {
-            0 => chip.write_register(a, u16::from_be_bytes([b, c])),
-            2 => {
-                let step = Duration::from_nanos(100 * (u64::from(u16::from_be_bytes([b, c])) + 1));
-                let t = chip.now().saturating_add(step);
-                let promise = match (chip.next_output_bound(), chip.next_line_output_at()) {
-                    (Some(x), Some(y)) => Some(x.min(y)),
-                    (x, y) => x.or(y),
-                };
-                if h0 & 32 != 0 && promise.is_some_and(|p| t < p) {
-                    chip.advance_before_output(t);
-                } else {
-                    chip.advance_to(t);
-                }
-                let mut out = Vec::new();
-                chip.take_line_output(&mut out);
-                let _ = chip.next_output_for_any_input();
-                let mut events = Vec::new();
-                chip.drain_pin_events(&mut events);
-                let mut frames = Vec::new();
-                chip.take_rx_frames(&mut frames);
-                let _ = chip.next_deadline();
-                let _ = chip.next_event_at();
+            0 => {
+                any_input = None;
+                chip.write_register(a, u16::from_be_bytes([b, c]));
             }
+            2 => fuzz_common::advance_record(&mut chip, h0, b, c, &mut any_input),
             _ => unreachable!("the input has only register writes and advances"),
         }
     }

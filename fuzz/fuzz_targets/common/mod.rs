@@ -2,6 +2,7 @@
 
 use sercon_model::Chip;
 use sercon_regs::SerconBus;
+use sercos_wire::time::{Duration, Instant};
 
 /// The RAM image of the input, repeated over the whole RAM, as 16-bit words.
 pub fn image_words(image: &[u8]) -> Vec<u16> {
@@ -58,4 +59,47 @@ impl<'a> Records<'a> {
         self.body = tail;
         payload
     }
+}
+
+/// `chip_ram_line`'s advance record: by `(bc + 1) × 100 ns`, with `Chip::advance_before_output`
+/// when `h0` bit 5 asks and the advance stops before the output bound; nothing released may
+/// start before that bound, nor before the promise for any line input (`any_input`, asked
+/// after the advance before, across the line inputs in between; set again here). The chip's
+/// other outputs are taken and dropped. (Used by `chip_ram_line` and by sercon-model's
+/// `layout_block_switch.rs`, which replays one of its inputs; not by `quiet_events`.)
+#[allow(dead_code)]
+pub fn advance_record(chip: &mut Chip, h0: u8, b: u8, c: u8, any_input: &mut Option<Instant>) {
+    let step = Duration::from_nanos(100 * (u64::from(u16::from_be_bytes([b, c])) + 1));
+    let t = chip.now().saturating_add(step);
+    // The promise a simulation sleeps on: nothing released starts before it.
+    let promise = match (chip.next_output_bound(), chip.next_line_output_at()) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        (x, y) => x.or(y),
+    };
+    if h0 & 32 != 0 && promise.is_some_and(|p| t < p) {
+        chip.advance_before_output(t);
+    } else {
+        chip.advance_to(t);
+    }
+    let mut out = Vec::new();
+    chip.take_line_output(&mut out);
+    for seg in &out {
+        assert!(
+            promise.is_some_and(|p| seg.start >= p),
+            "output at {:?} before the promise {promise:?}",
+            seg.start
+        );
+        assert!(
+            any_input.is_none_or(|p| seg.start >= p),
+            "output at {:?} before the promise for any input {any_input:?}",
+            seg.start
+        );
+    }
+    *any_input = chip.next_output_for_any_input();
+    let mut events = Vec::new();
+    chip.drain_pin_events(&mut events);
+    let mut frames = Vec::new();
+    chip.take_rx_frames(&mut frames);
+    let _ = chip.next_deadline();
+    let _ = chip.next_event_at();
 }
