@@ -565,8 +565,9 @@ pub(crate) fn start_block(chip: &mut Chip, tick: u64, block: u8) {
         prog_error(chip, ProgErr::Overlap);
         abort_block(chip, tick);
     }
-    // A layout proof made for the other block's list only does not know what this block's
-    // processing writes (a service container wrapping over the pointer words, say): it is
+    // A layout proof made for the other block's list only (410B §4.1 0CH.2 COMBLK0, 0CH.3:
+    // the registers choose a cycle's block) does not know what this block's processing
+    // writes (a service container wrapping over the pointer words, §4.2.4, say): it is
     // made afresh (found by fuzz target chip_ram_line: block 1 ran between a proof for block
     // 0 and its next use, and its aborted receive header's service container wrote COMPT0).
     if let Some((_, proved)) = chip.layout.get()
