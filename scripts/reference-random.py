@@ -2,10 +2,11 @@
 """Random `sercon ring` runs on the simulator's fast path and its reference path, compared.
 
 Each run picks a ring (1-16 drives, 2-16 Mbit/s, 500-2000 µs cycle, SERCON816 or 410B, a
-telegram type now and then), a seed, and up to three faults (break, power, bit errors, a
-burst, clock drift, distortion) at random, runs it twice (`sercon ring …` and `sercon ring …
+telegram type now and then), a seed, up to three faults (break, power, bit errors, a burst,
+clock drift, distortion) and now and then a VCD, a pcap of a fibre, a log of one fibre or the
+service transcript at random, runs it twice (`sercon ring …` and `sercon ring …
 --reference`) with a JSON log, and prints "same" or "DIFF" with the command line. The two
-must give the same report and log (spec-notes "Fast path = reference path"); a fast run that
+must give the same report, log and traces (spec-notes "Fast path = reference path"); a fast run that
 met telegrams at a repeater it cannot follow runs again on the reference path by itself, and
 its report then says so (the field `fast_path_collisions`), which shows here as DIFF too.
 
@@ -45,16 +46,29 @@ def ring_args(rng):
         args += ["--variant", "410b"]
     if rng.random() < 0.3:
         args += ["--telegram-type", str(rng.randint(0, 7))]
+    # Traces: a traced chip or fibre takes other paths through the simulator (a VCD keeps its
+    # chips from running ahead; a traced fibre splits telegrams from their filler).
+    if rng.random() < 0.25:
+        args += ["--vcd", "v.vcd"]
+    if rng.random() < 0.25:
+        args += ["--pcap", "p.pcap", "--pcap-segment", str(rng.randint(0, drives))]
+    if rng.random() < 0.2:
+        args += ["--log-segment", str(rng.randint(0, drives))]
+    if rng.random() < 0.2:
+        args += ["--transcript", "t.jsonl"]
     return args
 
 
 def run(sercon, args):
+    """Exit code, report and every file the run wrote (the log and the traces asked for)."""
     with tempfile.TemporaryDirectory() as d:
         r = subprocess.run([sercon] + args + ["--log", "l.jsonl", "--json"], cwd=d,
                            capture_output=True, text=True, timeout=600)
-        path = os.path.join(d, "l.jsonl")
-        log = open(path).read() if os.path.exists(path) else ""
-    return r.returncode, r.stdout, log
+        files = {}
+        for name in sorted(os.listdir(d)):
+            with open(os.path.join(d, name), "rb") as f:
+                files[name] = f.read()
+    return r.returncode, r.stdout, files
 
 
 def main():
@@ -76,6 +90,10 @@ def main():
             a, b = json.loads(fast[1]), json.loads(reference[1])
             keys = [k for k in a if a.get(k) != b.get(k)]
             print("   report fields that differ:", keys, flush=True)
+        if not same:
+            names = sorted(set(fast[2]) | set(reference[2]))
+            print("   files that differ:",
+                  [n for n in names if fast[2].get(n) != reference[2].get(n)], flush=True)
     sys.exit(1 if differ else 0)
 
 
