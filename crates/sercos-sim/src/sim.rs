@@ -97,7 +97,10 @@ pub struct SimStats {
     /// held the repeated telegram behind the other, or the chip's output cut it with no
     /// rest after; a run with any may differ from the reference path's
     /// ([`Delivery::Exact`]), which should be run instead (`sercon ring` does so by itself).
-    /// A ring whose telegrams keep clear of each other at every repeater has none.
+    /// Every segment the fast path handed to a receiver behind a later one
+    /// ([`SimStats::out_of_order`]) counts too (spec-notes "Fast path = reference path",
+    /// order at every receiver). A ring whose telegrams keep clear of each other at every
+    /// repeater has none.
     pub fast_path_collisions: u64,
 }
 
@@ -1201,12 +1204,26 @@ impl Simulation {
         }
         if local.start < node.in_floor {
             self.stats.out_of_order += 1;
+            if self.delivery == Delivery::Fast
+                && (node.in_bits || matches!(local.signal, LineSignal::Bits(_)))
+            {
+                // A segment behind one handed over ahead of it, a telegram on either side:
+                // the fast path carried the later one ahead of what comes first on the line
+                // (a slave's telegram through plain repeaters ahead of the filler still in
+                // their chips; a filler split off ahead of the repeater's own telegram that
+                // cuts what it repeats, 410B §1); the receiver cannot take it in its place,
+                // so the run may differ from the reference path's: counted like the
+                // collisions it cannot follow. (Dark after dark, as every chip's first
+                // output reaches the next at the start, changes nothing.)
+                self.stats.fast_path_collisions += 1;
+            }
             match local.from_instant(node.in_floor) {
                 Some(s) => local = s,
                 None => return,
             }
         }
         node.in_floor = local.start;
+        node.in_bits = matches!(local.signal, LineSignal::Bits(_));
         // The fast path leaves out segments this receiver ignores, so the level it saw
         // last may differ from the sender's: a telegram is taken from the level the
         // receiver is at (NRZI decodes an inverted telegram the same).
@@ -1661,6 +1678,7 @@ impl Simulation {
                 n.expect.clear();
                 n.resume = None;
                 n.in_floor = local;
+                n.in_bits = false;
                 n.last_out = None;
                 n.host_deadline = None;
                 n.ints = (
@@ -1678,7 +1696,7 @@ impl Simulation {
                 // and FIBBR until its next telegram; the exact path's chip forwards the
                 // copies after its dark). At power-on time t the chip is powered from t on
                 // (spec-notes "Faults: exact accounting", same-instant rule).
-                self.route_outputs(node);
+                self.route_power_on_output(node, local);
                 // What the line upstream carries now reaches the fresh receiver.
                 let up = (node + n_nodes - 1) % n_nodes;
                 let up = if matches!(self.topology, Topology::Bus { .. }) {
@@ -1697,6 +1715,37 @@ impl Simulation {
             _ => {}
         }
         Ok(())
+    }
+
+    /// [`Simulation::route_outputs`] of node `node`'s fresh chip at its power-on instant
+    /// `local` (node time): the chip starts out of reset at time zero, so its first output
+    /// (dark, the transmitter off) is dated from then; it is the line from the power-on on
+    /// (the node was unpowered before, its output dark from its power-off). Dated from zero,
+    /// it reached the next receiver behind what that receiver had been given since (out of
+    /// order, cut to its input floor).
+    fn route_power_on_output(&mut self, node: usize, local: Instant) {
+        let mut out = std::mem::take(&mut self.buf);
+        if let Some(n) = self.nodes.get_mut(node) {
+            let until = n.clock.to_local(self.now);
+            n.chip.take_line_output_until(until, &mut out);
+        }
+        out.retain_mut(|seg| {
+            if seg.start >= local {
+                return true;
+            }
+            match seg.from_instant(local) {
+                Some(from) => {
+                    *seg = from;
+                    true
+                }
+                None => false,
+            }
+        });
+        self.route_taken(node, &mut out);
+        self.buf = out;
+        if !self.deferred.is_empty() {
+            self.route_deferred();
+        }
     }
 
     /// Sends what enters fibre `k` again (at a repair or a power-on), for the fresh

@@ -1336,3 +1336,115 @@ fn a_waiting_mdt_header_takes_the_next_cycle_s_mdt_when_the_mst_between_is_lost(
     assert_eq!(want.nmsterr, vec![1, 1]);
     assert_eq!(want.slave_nerr, vec![0, 0]);
 }
+
+/// `ring` with slave 1's AT `early` µs before its planned TRT, run on both paths with
+/// `faults` to `until`, only the fibre into the master logged (an untraced fibre is plain:
+/// the fast path carries slave telegrams through runs of plain repeaters ahead of their
+/// chips): each path's log and the fast path's collision and out-of-order counts.
+fn early_at_runs(
+    ring: &StaticRing,
+    early: u16,
+    faults: &[Fault],
+    until: Instant,
+) -> [(String, u64, u64); 2] {
+    let mut ring = ring.clone();
+    let (_, _, plan) = build(&ring);
+    let mut trt = plan.at_trt_us.clone();
+    trt[0] -= early;
+    ring.at_trt_override = Some(trt);
+    [Delivery::Exact, Delivery::Fast].map(|d| {
+        let mut r = ring.clone();
+        r.delivery = d;
+        let (mut cfg, hosts, _) = build(&r);
+        cfg.faults = faults.to_vec();
+        let last = u16::try_from(ring.slaves).expect("a small ring");
+        cfg.traces.log_segment = Some(sercos_sim::trace::SegmentId(last));
+        let (sim, out) = run(cfg, hosts, until);
+        let st = sim.stats();
+        (
+            String::from_utf8_lossy(&out.log).into_owned(),
+            st.fast_path_collisions,
+            st.out_of_order,
+        )
+    })
+}
+
+// 410B §1: a repeater forwards what it receives in the order it comes. With faults
+// configured (not yet acting: a break of fibre 1 and a power-off of slave 5, both at 100 ms)
+// the fast path hands the master's telegrams to each repeater's chip to forward, hop by hop
+// at their times, and carries a slave's AT through the runs of plain repeaters ahead of
+// them: slave 1's AT, due 5 µs earlier than planned (under 2 µs after the MDT's end at
+// slave 1), reached slave 5 before the filler after the MDT, still in slave 4's chip; slave
+// 5's receiver, handed the filler after the AT, cut the AT with it (the AT lost at the
+// master; in `sercon ring`, 14 drives with a break and a power-off configured, drive 1 lost
+// in phase 1 and the ring halted, with no collision reported). Session 17: the fast path
+// counts a segment handed to a receiver behind a telegram (or a telegram behind a later
+// segment) as a collision it cannot follow, so that `sercon ring` runs the ring again on the
+// reference path; without the overtaking, the paths agree.
+#[test]
+fn a_slave_telegram_that_overtook_a_filler_in_the_repeaters_chips_is_counted() {
+    let ring = ring_of(6, false, 0);
+    let faults = [
+        fibre_break(1, us(100_000), us(101_000)),
+        power_off(5, us(100_000), us(101_000)),
+    ];
+    let [(exact, ..), (fast, collisions, out_of_order)] =
+        early_at_runs(&ring, 5, &faults, us(3000));
+    assert!(exact.contains("slave AT adr 1"), "{exact}");
+    assert_ne!(
+        exact, fast,
+        "the fast path still overtakes here: the count is what it says"
+    );
+    assert!(out_of_order > 0);
+    assert!(collisions >= out_of_order, "{collisions} < {out_of_order}");
+    // The AT at its planned time: nothing overtakes, nothing is counted, the same run.
+    let [(exact, ..), (fast, collisions, out_of_order)] =
+        early_at_runs(&ring, 0, &faults, us(3000));
+    assert_eq!((collisions, out_of_order), (0, 0));
+    assert_eq!(exact, fast);
+}
+
+// 410B §1 "or send their own telegrams": slave 1's AT, 5 µs earlier than planned on a ring
+// of 4 slaves, starts inside the MDT it repeats and cuts it (the exact path: the MDT broken
+// at the master). The fast path's copy of the MDT carried its filler, which the fibre with
+// a fault configured split off and handed on ahead, before the AT that cuts the MDT came
+// from the chip: the AT reached the next receiver behind the filler (out of order). The fast
+// path cannot follow that; it now says so (`SimStats::fast_path_collisions`, so that
+// `sercon ring` runs such a ring again on the reference path) instead of giving another run
+// as if it could.
+#[test]
+fn a_telegram_handed_over_behind_a_later_one_counts_as_a_collision() {
+    let ring = ring_of(4, false, 0);
+    let faults = [
+        fibre_break(1, us(100_000), us(101_000)),
+        power_off(3, us(100_000), us(101_000)),
+    ];
+    let [(exact, ..), (fast, collisions, out_of_order)] =
+        early_at_runs(&ring, 5, &faults, us(3000));
+    assert!(exact.contains("master - adr 255 broken"), "{exact}");
+    assert_ne!(exact, fast);
+    assert!(out_of_order > 0);
+    assert!(collisions >= out_of_order, "{collisions} < {out_of_order}");
+}
+
+// A node powered on starts with a fresh chip, out of reset at time zero: its first output
+// (dark) was dated from then and reached the next receiver behind what that one had been
+// given since the power-off (out of order on both paths, and on the fast path now counted
+// as a collision). It is the line from the power-on on (session 17).
+#[test]
+fn a_powered_on_node_s_first_output_is_dated_from_its_power_on() {
+    let ring = slow_ring_of(3, false, 0);
+    for delivery in [Delivery::Exact, Delivery::Fast] {
+        let mut r = ring.clone();
+        r.delivery = delivery;
+        let (mut cfg, hosts, _) = build(&r);
+        cfg.faults = vec![power_off(2, us(2100), us(2600))];
+        let (sim, _) = run(cfg, hosts, us(4000));
+        let st = sim.stats();
+        assert_eq!(
+            (st.out_of_order, st.fast_path_collisions),
+            (0, 0),
+            "{delivery:?}"
+        );
+    }
+}
