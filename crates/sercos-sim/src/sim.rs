@@ -1205,6 +1205,7 @@ impl Simulation {
         if local.start < node.in_floor {
             self.stats.out_of_order += 1;
             if self.delivery == Delivery::Fast
+                && node.clock.is_identity()
                 && (node.in_bits || matches!(local.signal, LineSignal::Bits(_)))
             {
                 // A segment behind one handed over ahead of it, a telegram on either side:
@@ -1214,7 +1215,10 @@ impl Simulation {
                 // cuts what it repeats, 410B §1); the receiver cannot take it in its place,
                 // so the run may differ from the reference path's: counted like the
                 // collisions it cannot follow. (Dark after dark, as every chip's first
-                // output reaches the next at the start, changes nothing.)
+                // output reaches the next at the start, changes nothing; a node whose clock
+                // drifts maps segments that follow one another on the line onto its own
+                // time out of order by up to length × error, on both paths alike: spec-notes
+                // "Own clocks".)
                 self.stats.fast_path_collisions += 1;
             }
             match local.from_instant(node.in_floor) {
