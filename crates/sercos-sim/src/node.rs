@@ -58,8 +58,6 @@ pub(crate) struct Node {
     pub(crate) track_levels: bool,
     /// Start of the last input segment (local time).
     pub(crate) in_floor: Instant,
-    /// The last input segment carries bits (a telegram), not a steady signal.
-    pub(crate) in_bits: bool,
     /// How far the output the chip released reaches (simulation time; the output floor as
     /// the last segment taken from the chip left it): beyond it, the output line holds what
     /// the fast path put out ahead of the chip (`Simulation::repeat_out`).
@@ -186,7 +184,6 @@ impl Node {
             chip_out_end: Instant::ZERO,
             out_local_end: Instant::ZERO,
             in_floor: Instant::ZERO,
-            in_bits: false,
             contig: Contiguity::default(),
             repeating: false,
             wake: None,

@@ -1203,31 +1203,13 @@ impl Simulation {
             local.start = node.map_in(local.start, &local);
         }
         if local.start < node.in_floor {
-            self.stats.out_of_order += 1;
-            if self.delivery == Delivery::Fast
-                && node.clock.is_identity()
-                && (node.in_bits || matches!(local.signal, LineSignal::Bits(_)))
-            {
-                // A segment behind one handed over ahead of it, a telegram on either side:
-                // the fast path carried the later one ahead of what comes first on the line
-                // (a slave's telegram through plain repeaters ahead of the filler still in
-                // their chips; a filler split off ahead of the repeater's own telegram that
-                // cuts what it repeats, 410B §1); the receiver cannot take it in its place,
-                // so the run may differ from the reference path's: counted like the
-                // collisions it cannot follow. (Dark after dark, as every chip's first
-                // output reaches the next at the start, changes nothing; a node whose clock
-                // drifts maps segments that follow one another on the line onto its own
-                // time out of order by up to length × error, on both paths alike: spec-notes
-                // "Own clocks".)
-                self.stats.fast_path_collisions += 1;
-            }
-            match local.from_instant(node.in_floor) {
+            let fast = self.delivery == Delivery::Fast;
+            match out_of_order(&mut self.stats, fast, node, local) {
                 Some(s) => local = s,
                 None => return,
             }
         }
         node.in_floor = local.start;
-        node.in_bits = matches!(local.signal, LineSignal::Bits(_));
         // The fast path leaves out segments this receiver ignores, so the level it saw
         // last may differ from the sender's: a telegram is taken from the level the
         // receiver is at (NRZI decodes an inverted telegram the same).
@@ -1682,7 +1664,6 @@ impl Simulation {
                 n.expect.clear();
                 n.resume = None;
                 n.in_floor = local;
-                n.in_bits = false;
                 n.last_out = None;
                 n.host_deadline = None;
                 n.ints = (
@@ -1747,9 +1728,8 @@ impl Simulation {
         });
         self.route_taken(node, &mut out);
         self.buf = out;
-        if !self.deferred.is_empty() {
-            self.route_deferred();
-        }
+        // No slave runs ahead in a run with power-offs (`run_ahead_ok`): nothing deferred.
+        debug_assert!(self.deferred.is_empty(), "an AT deferred at a power-on");
     }
 
     /// Sends what enters fibre `k` again (at a repair or a power-on), for the fresh
@@ -1834,6 +1814,35 @@ impl Simulation {
 /// for every node many times a cycle, stays small in the instruction cache.
 #[cold]
 #[inline(never)]
+/// A segment for `node` that starts before the last one handed to it (`Node::in_floor`):
+/// counted, and cut to start there (`None`: nothing of it is left). On the fast path
+/// (`fast`), with a telegram on either side, it also counts as a collision the fast path
+/// cannot follow ([`SimStats::fast_path_collisions`]): the fast path carried the later one
+/// ahead of what comes first on the line (a slave's telegram through plain repeaters ahead
+/// of the filler still in their chips; a filler split off ahead of the repeater's own
+/// telegram that cuts what it repeats, 410B §1), and the receiver cannot take it in its
+/// place, so the run may differ from the reference path's. Dark after dark, as every chip's
+/// first output reaches the next at the start, changes nothing; a node whose clock drifts
+/// maps segments that follow one another on the line onto its own time out of order by up
+/// to length × error, on both paths alike (spec-notes "Own clocks"): neither is counted.
+#[cold]
+#[inline(never)]
+fn out_of_order(
+    stats: &mut SimStats,
+    fast: bool,
+    node: &Node,
+    local: LineSegment,
+) -> Option<LineSegment> {
+    stats.out_of_order += 1;
+    if fast
+        && node.clock.is_identity()
+        && (matches!(local.signal, LineSignal::Bits(_)) || node.chip.last_input_is_bits())
+    {
+        stats.fast_path_collisions += 1;
+    }
+    local.from_instant(node.in_floor)
+}
+
 fn general_wake(node: &Node, lookahead: Lookahead, exact: bool) -> Option<Instant> {
     let own = if lookahead == Lookahead::Events {
         node.chip.next_event_at()

@@ -170,6 +170,12 @@ impl Chip {
         self.serial.received_level_at(t)
     }
 
+    /// Whether the last segment given to [`Chip::line_input`] carries bits (a telegram), not
+    /// a steady signal (filler, dark, light); `false` before the first.
+    pub fn last_input_is_bits(&self) -> bool {
+        self.serial.last_input_is_bits()
+    }
+
     /// Whether the repeater's copies of the received signal (410B §1 "The slaves regenerate
     /// and repeat their received data", 1H.3 REPON) appear in the line output (on after
     /// [`Chip::new`]). A simulation that carries every received segment down the ring itself

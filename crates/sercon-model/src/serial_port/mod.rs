@@ -290,6 +290,13 @@ impl SerialPort {
         self.rx.level_at(t)
     }
 
+    /// Whether the last segment received carries bits (a telegram), not a steady signal.
+    pub(crate) fn last_input_is_bits(&self) -> bool {
+        self.rx
+            .last_segment()
+            .is_some_and(|s| matches!(s.signal, LineSignal::Bits(_)))
+    }
+
     /// Whether the repeater's copies of the received signal are released as output
     /// (`Chip::set_forward_output`).
     pub(crate) fn set_forward_output(&mut self, on: bool) {
