@@ -1809,11 +1809,6 @@ impl Simulation {
     }
 }
 
-/// The chip part of a node's next wake off the fast path (exact delivery, or woken for
-/// observable changes only): kept out of line, so that the fast path's reschedule, run
-/// for every node many times a cycle, stays small in the instruction cache.
-#[cold]
-#[inline(never)]
 /// A segment for `node` that starts before the last one handed to it (`Node::in_floor`):
 /// counted, and cut to start there (`None`: nothing of it is left). On the fast path
 /// (`fast`), with a telegram on either side, it also counts as a collision the fast path
@@ -1843,6 +1838,11 @@ fn out_of_order(
     local.from_instant(node.in_floor)
 }
 
+/// The chip part of a node's next wake off the fast path (exact delivery, or woken for
+/// observable changes only): kept out of line, so that the fast path's reschedule, run
+/// for every node many times a cycle, stays small in the instruction cache.
+#[cold]
+#[inline(never)]
 fn general_wake(node: &Node, lookahead: Lookahead, exact: bool) -> Option<Instant> {
     let own = if lookahead == Lookahead::Events {
         node.chip.next_event_at()
