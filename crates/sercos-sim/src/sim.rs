@@ -1212,8 +1212,12 @@ impl Simulation {
         node.in_floor = local.start;
         // The fast path leaves out segments this receiver ignores, so the level it saw
         // last may differ from the sender's: a telegram is taken from the level the
-        // receiver is at (NRZI decodes an inverted telegram the same).
-        if matches!(local.signal, LineSignal::Bits(_))
+        // receiver is at (NRZI decodes an inverted telegram the same), and so is the filler
+        // after one that comes as a segment of its own (it goes on from the level the
+        // telegram left, 410B §1; taken from the sender's, it left the line at the other
+        // level after an inverted telegram: a cut by a power-off's dark then came on light
+        // or on dark the other way round, INT_FIBBR 6.25 ns apart from the reference path).
+        if matches!(local.signal, LineSignal::Bits(_) | LineSignal::Filler)
             && node
                 .chip
                 .received_level_at(local.start)
