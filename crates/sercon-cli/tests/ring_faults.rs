@@ -245,3 +245,31 @@ fn a_run_the_fast_path_cannot_follow_is_the_reference_path_s() {
     assert_eq!(fast, asked);
     assert_eq!(fast.result, RunResult::Phase4);
 }
+
+// spec-notes "The ring command", faults on the reference path: a ring with a fibre break
+// (410B §4.1 2H.13 FIBBR behind it) runs on the reference path from the start. On the fast
+// path this ring counted 4 collisions it could not follow and ran again; now its report is
+// the reference path's, without a count, and the same as asked for with `--reference`.
+#[test]
+fn a_ring_with_a_fault_other_than_drift_runs_on_the_reference_path() {
+    let spec = RingSpec {
+        run_for: Duration::from_millis(600),
+        faults: vec!["break:2@200ms..300ms".parse().expect("a fault")],
+        ..RingSpec::default()
+    };
+    let mut runs_on_reference = true;
+    let report = ring::run(&spec, &mut |p| runs_on_reference &= p.reference)
+        .expect("the ring runs")
+        .report;
+    assert!(runs_on_reference, "a progress line said the fast path");
+    assert_eq!(report.fast_path_collisions, None);
+    let asked = RingSpec {
+        reference: true,
+        ..spec
+    };
+    let reference = ring::run(&asked, &mut |_| {})
+        .expect("the ring runs")
+        .report;
+    assert_eq!(report, reference);
+    assert_eq!(report.result, RunResult::Phase4);
+}

@@ -888,10 +888,14 @@ impl Simulation {
         // touching the nodes.
         // The repeaters' latency, 410B §1 (found at the first repeater).
         let mut lat: Option<Duration> = None;
+        // Not a replay (a repair, a power-on): every receiver behind the fresh one gets it
+        // (see `deliver` below), plain repeaters too.
         let passes = fast
             && origin != 0
             && enter
-            && matches!(seg.signal, LineSignal::Bits(_) | LineSignal::Filler);
+            && matches!(seg.signal, LineSignal::Bits(_) | LineSignal::Filler)
+            && self.replay_to.is_none()
+            && !self.replay_copy;
         for _ in 0..n {
             if passes {
                 self.pass_plain(&mut cur, &mut seg);
@@ -1212,12 +1216,8 @@ impl Simulation {
         node.in_floor = local.start;
         // The fast path leaves out segments this receiver ignores, so the level it saw
         // last may differ from the sender's: a telegram is taken from the level the
-        // receiver is at (NRZI decodes an inverted telegram the same), and so is the filler
-        // after one that comes as a segment of its own (it goes on from the level the
-        // telegram left, 410B §1; taken from the sender's, it left the line at the other
-        // level after an inverted telegram: a cut by a power-off's dark then came on light
-        // or on dark the other way round, INT_FIBBR 6.25 ns apart from the reference path).
-        if matches!(local.signal, LineSignal::Bits(_) | LineSignal::Filler)
+        // receiver is at (NRZI decodes an inverted telegram the same).
+        if matches!(local.signal, LineSignal::Bits(_))
             && node
                 .chip
                 .received_level_at(local.start)
@@ -1257,6 +1257,20 @@ impl Simulation {
             && matches!(local.signal, LineSignal::Bits(_)))
         .then(|| local.end())
         .flatten();
+        if origin != 0
+            && j != 0
+            && (self.replay_to.is_some() || self.replay_copy)
+            && self.delivery == Delivery::Fast
+            && matches!(local.signal, LineSignal::Bits(_))
+            && !local.then_filler
+        {
+            // A replay (a repair, a power-on) gives a fresh receiver a slave's telegram
+            // without the filler after it, which comes as a slave's segment of its own and,
+            // on the fast path, to no slave (see `propagate`): that receiver sees no edge
+            // until the master's next telegram (FIBBR, 410B §4.1 2H.13), where the reference
+            // path's gets the filler. Counted like the collisions the fast path cannot follow.
+            self.stats.fast_path_collisions += 1;
+        }
         node.chip.line_input(local);
         self.stats.deliveries += 1;
         // A segment that starts after the chip's time adds events from its start on only
