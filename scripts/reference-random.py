@@ -10,6 +10,10 @@ must give the same report, log and traces (spec-notes "Fast path = reference pat
 met telegrams at a repeater it cannot follow runs again on the reference path by itself, and
 its report then says so (the field `fast_path_collisions`), which shows here as DIFF too.
 
+`sercon ring` runs a ring with a fault other than drift on the reference path either way
+(session 17), so those runs check the CLI; the fast path is checked by the fault-free and
+drift runs (and by the property tests in crates/sercos-sim/tests).
+
 Usage: scripts/reference-random.py SERCON [SEED] [RUNS]
 Session 16 found with it that the runner's schedule drifted with the path (fixed).
 """
