@@ -421,10 +421,15 @@ impl Recorder {
             None => {}
         }
         if !self.vcd.is_empty() {
+            // Pin changes up to the end only (a chip moved on by its host's access may have
+            // recorded some after it).
             let chips: Vec<(TracedChip, &[PinEvent])> = self
                 .vcd
                 .iter()
-                .map(|(c, e)| (c.clone(), e.as_slice()))
+                .map(|(c, e)| {
+                    let upto = e.partition_point(|p| p.at <= end);
+                    (c.clone(), e.get(..upto).unwrap_or(&[]))
+                })
                 .collect();
             write_vcd(&mut out.vcd, Timescale::Nanoseconds, &chips, end)?;
         }
