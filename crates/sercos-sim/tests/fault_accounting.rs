@@ -609,6 +609,20 @@ fn mixed_faults(faults: &[(u8, usize, u64, u64, u32)], cycle: u64, nodes: usize)
         .collect()
 }
 
+/// Moves each slave's AT by `shifts` µs from the plan of `ring` (cycle `cycle` µs), kept
+/// inside the cycle (410B §4.2.1 TRT): ATs that may meet at repeaters.
+fn shift_ats(ring: &mut StaticRing, cycle: u64, shifts: &[i32]) {
+    let (_, _, plan) = build(ring);
+    ring.at_trt_override = Some(
+        plan.at_trt_us
+            .iter()
+            .zip(shifts)
+            .map(|(t, s)| (i32::from(*t) + s).clamp(1, cycle as i32 - 1))
+            .map(|t| u16::try_from(t).unwrap_or(1))
+            .collect(),
+    );
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(
         std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(12)
@@ -634,15 +648,7 @@ proptest! {
     ) {
         let (mut ring, cycle) = mixed_ring(slaves, rate, fibre_m, mdt_after_ats, seed);
         prop_assume!(ring.build().is_ok());
-        let (_, _, plan) = build(&ring);
-        ring.at_trt_override = Some(
-            plan.at_trt_us
-                .iter()
-                .zip(&shifts)
-                .map(|(t, s)| (i32::from(*t) + s).clamp(1, cycle as i32 - 1))
-                .map(|t| u16::try_from(t).unwrap_or(1))
-                .collect(),
-        );
+        shift_ats(&mut ring, cycle, &shifts);
         let faults = mixed_faults(&faults, cycle, slaves + 1);
         let cy = |c: u64| us(c * cycle);
         let step = Duration::from_micros(23);
@@ -684,15 +690,7 @@ proptest! {
     ) {
         let (mut ring, cycle) = mixed_ring(slaves, rate, 10, mdt_after_ats, seed);
         prop_assume!(ring.build().is_ok());
-        let (_, _, plan) = build(&ring);
-        ring.at_trt_override = Some(
-            plan.at_trt_us
-                .iter()
-                .zip(&shifts)
-                .map(|(t, s)| (i32::from(*t) + s).clamp(1, cycle as i32 - 1))
-                .map(|t| u16::try_from(t).unwrap_or(1))
-                .collect(),
-        );
+        shift_ats(&mut ring, cycle, &shifts);
         let cy = |c: u64| us(c * cycle);
         let faults: Vec<Fault> = Vec::new();
         let into_master = u16::try_from(slaves).ok();
