@@ -835,8 +835,14 @@ impl Simulation {
         // Exact path: a repeater's copy of what it received keeps its origin (the fast
         // path carries received segments itself, `propagate`; the chips release no copies).
         let mut replayed = false;
+        // A copy is what starts where it is expected, of its kind: an own telegram starting
+        // at the instant a filler's copy was due is the chip's own (it shadows the copy;
+        // 410B §1): its origin is this node (the log named it after the copy's origin: a
+        // slave's AT logged as the master's MDT on the reference path, found by the
+        // property test with moved ATs, 200 m fibres, no fault).
         if let Some(&e) = node.expect.front()
             && e.at == seg.start
+            && e.bits == matches!(seg.signal, LineSignal::Bits(_))
         {
             node.expect.pop_front();
             origin = e.origin;
@@ -1039,6 +1045,7 @@ impl Simulation {
     #[inline(never)]
     fn deliver_chip_forwards(&mut self, k: usize, seg: LineSegment, origin: usize) {
         let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        let bits = matches!(seg.signal, LineSignal::Bits(_));
         if let Some(node) = self.nodes.get_mut(k) {
             node.chip.set_forward_output(true);
         }
@@ -1051,6 +1058,7 @@ impl Simulation {
                 at,
                 origin,
                 replayed,
+                bits,
             });
         }
         self.touch(k);
@@ -1243,6 +1251,7 @@ impl Simulation {
                 at: local.start.saturating_add(lat),
                 origin,
                 replayed: false,
+                bits: matches!(local.signal, LineSignal::Bits(_)),
             });
         }
         let ahead = local.start > node.chip.now();
@@ -1838,13 +1847,15 @@ impl Simulation {
 
 /// A segment for `node` that starts before the last one handed to it (`Node::in_floor`):
 /// counted, and cut to start there (`None`: nothing of it is left). On the fast path
-/// (`fast`), with a telegram on either side, it also counts as a collision the fast path
-/// cannot follow ([`SimStats::fast_path_collisions`]): the fast path carried the later one
+/// (`fast`), when it is a telegram or a filler, or a telegram was handed over last, it also
+/// counts as a collision the fast path cannot follow ([`SimStats::fast_path_collisions`]): the fast path carried the later one
 /// ahead of what comes first on the line (a slave's telegram through plain repeaters ahead
 /// of the filler still in their chips; a filler split off ahead of the repeater's own
 /// telegram that cuts what it repeats, 410B §1), and the receiver cannot take it in its
-/// place, so the run may differ from the reference path's. Dark after dark, as every chip's
-/// first output reaches the next at the start, changes nothing; a node whose clock drifts
+/// place, so the run may differ from the reference path's (a filler handed over late: the
+/// master's filler overtaken by a slave's AT and its filler, its copy lost behind them).
+/// Dark after dark, as every chip's first output reaches the next at the start, changes
+/// nothing; a node whose clock drifts
 /// maps segments that follow one another on the line onto its own time out of order by up
 /// to length × error, on both paths alike (spec-notes "Own clocks"): neither is counted.
 #[cold]
@@ -1858,7 +1869,8 @@ fn out_of_order(
     stats.out_of_order += 1;
     if fast
         && node.clock.is_identity()
-        && (matches!(local.signal, LineSignal::Bits(_)) || node.chip.last_input_is_bits())
+        && (matches!(local.signal, LineSignal::Bits(_) | LineSignal::Filler)
+            || node.chip.last_input_is_bits())
     {
         stats.fast_path_collisions += 1;
     }
