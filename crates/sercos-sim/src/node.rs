@@ -27,8 +27,9 @@ pub(crate) struct ExpectedCopy {
     /// A copy of a replay (a repair, a power-on): every receiver behind gets it, as it
     /// gets the replay itself (`Simulation::propagate`).
     pub(crate) replayed: bool,
-    /// It carries bits (a telegram), not a steady signal: an own telegram of the chip that
-    /// starts at the same instant is not this copy (it shadows it, 410B §1).
+    /// It carries bits (a telegram), not a steady signal: only such a copy is what a
+    /// telegram the chip puts out at its instant is (else the telegram is the chip's own,
+    /// which shadows a steady signal's copy, 410B §1).
     pub(crate) bits: bool,
 }
 

@@ -835,16 +835,20 @@ impl Simulation {
         // Exact path: a repeater's copy of what it received keeps its origin (the fast
         // path carries received segments itself, `propagate`; the chips release no copies).
         let mut replayed = false;
-        // A copy is what starts where it is expected, of its kind: an own telegram starting
-        // at the instant a filler's copy was due is the chip's own (it shadows the copy;
-        // 410B §1): its origin is this node (the log named it after the copy's origin: a
-        // slave's AT logged as the master's MDT on the reference path, found by the
-        // property test with moved ATs, 200 m fibres, no fault).
-        if let Some(&e) = node.expect.front()
-            && e.at == seg.start
-            && e.bits == matches!(seg.signal, LineSignal::Bits(_))
+        // A copy is what starts where it is expected; a telegram is the copy of a telegram
+        // expected there (a steady signal's copy due at the same instant, the dark before a
+        // repair's replay say, is passed over), and with none it is the chip's own, which
+        // shadows a filler's copy due then (410B §1): its origin is this node (the log named
+        // it after the filler's origin: a slave's AT logged as the master's MDT on the
+        // reference path, found by the mixed property test with moved ATs, no fault).
+        let bits = matches!(seg.signal, LineSignal::Bits(_));
+        if let Some(i) = node
+            .expect
+            .iter()
+            .take_while(|e| e.at == seg.start)
+            .position(|e| e.bits || !bits)
+            && let Some(e) = node.expect.remove(i)
         {
-            node.expect.pop_front();
             origin = e.origin;
             replayed = e.replayed;
         }
