@@ -1409,10 +1409,8 @@ fn early_at_runs(
     until: Instant,
 ) -> [(String, u64, u64); 2] {
     let mut ring = ring.clone();
-    let (_, _, plan) = build(&ring);
-    let mut trt = plan.at_trt_us.clone();
-    trt[0] -= early;
-    ring.at_trt_override = Some(trt);
+    let cycle = u64::from(ring.cycle_us);
+    shift_ats(&mut ring, cycle, &[-i32::from(early)]);
     [Delivery::Exact, Delivery::Fast].map(|d| {
         let mut r = ring.clone();
         r.delivery = d;
