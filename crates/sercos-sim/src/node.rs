@@ -100,8 +100,16 @@ pub(crate) struct Contiguity {
 }
 
 /// `start` in the other time: where the last segment's bits ended (`last`: their end in
-/// this time and in the other) when it starts there, else `map(start)`; `last` becomes the
-/// end of `seg`'s bits, unless an implied filler follows them in the segment.
+/// this time and in the other) when it starts there; when it starts after that end,
+/// `map(start)` but no earlier than the end in the other time; else `map(start)`. `last`
+/// becomes the end of `seg`'s bits (a steady segment keeps it).
+///
+/// The bits keep their length in both times (spec-notes "Own clocks"), so their end lies up
+/// to length × the clock error apart from where the clock maps it: mapped alone, a segment
+/// that follows the bits closer than that would start before their end in the other time
+/// and reach the receiver out of order, which cut it (a slave's AT 12.7 ns after the MST it
+/// follows, at a repeater 1000 ppm slow: the AT lost). It starts at their end instead, as if
+/// it followed them at once.
 fn follow(
     last: &mut Option<(Instant, Instant)>,
     start: Instant,
@@ -110,12 +118,13 @@ fn follow(
 ) -> Instant {
     let other = match *last {
         Some((here, there)) if here == start => there,
+        Some((here, there)) if here < start => map(start).max(there),
         _ => map(start),
     };
-    *last = seg.bit_len().filter(|_| !seg.then_filler).map(|n| {
+    if let Some(n) = seg.bit_len() {
         let len = seg.bit_time.saturating_mul(n);
-        (start.saturating_add(len), other.saturating_add(len))
-    });
+        *last = Some((start.saturating_add(len), other.saturating_add(len)));
+    }
     other
 }
 

@@ -1513,3 +1513,73 @@ fn a_powered_on_node_s_first_output_is_dated_from_its_power_on() {
         );
     }
 }
+
+// Spec-notes "Own clocks": slave 1's AT, 3 µs earlier than planned, starts 12.7 ns after
+// the end of the MST it repeats (2 Mbit/s); slave 2's clock runs 1000 ppm slow. The MST's
+// bits keep their length in slave 2's time, so their end there lies 24.5 ns (length × error)
+// later than the clock maps the instant: the AT, mapped alone, started before the MST's
+// filler in slave 2's time, reached its receiver out of order and was cut (on the exact
+// path AT 1 never reached the master; the fast path, which gives a slave's AT to no slave,
+// kept it). A segment after the bits now starts no earlier than their end in the other time.
+#[test]
+fn a_drifting_repeater_keeps_a_telegram_that_follows_closely_on_the_one_before() {
+    let ring = ring_at_2mbit(3, true, 0, 10);
+    let drift = |ppm| {
+        [Fault {
+            at: us(0),
+            kind: FaultKind::ClockDrift { node: 2, ppm },
+        }]
+    };
+    for ppm in [-1000.0, -2000.0, 1000.0, 2000.0] {
+        let [(exact, ..), (fast, collisions, out_of_order)] =
+            early_at_runs(&ring, 3, &drift(ppm), us(8000));
+        // Cycles 0 to 7, each with AT 1 into the master.
+        assert_eq!(exact.matches("slave AT adr 1").count(), 8, "{ppm}: {exact}");
+        assert_eq!((collisions, out_of_order), (0, 0), "{ppm}");
+        assert_eq!(exact, fast, "{ppm}");
+    }
+    // Every fibre logged: slave 2 forwards AT 1 (fibre 2) on both paths, in order.
+    for delivery in [Delivery::Exact, Delivery::Fast] {
+        let mut r = ring.clone();
+        shift_ats(&mut r, 1000, &[-3]);
+        r.delivery = delivery;
+        let (mut cfg, hosts, _) = build(&r);
+        cfg.faults = drift(-1000.0).to_vec();
+        cfg.traces.log_segment = None;
+        let (sim, out) = run(cfg, hosts, us(1000));
+        let log = String::from_utf8_lossy(&out.log);
+        assert!(log.contains("seg 2 slave AT adr 1"), "{delivery:?}: {log}");
+        assert_eq!(sim.stats().out_of_order, 0, "{delivery:?}");
+    }
+}
+
+// HDLC; 410B §1 "or send their own telegrams", §4.2.1 NERR. Four slaves at 2 Mbit/s, ATs
+// moved by 0, +24, +12, −30 µs: slave 3's AT starts inside the closing flag of slave 2's AT
+// it repeats (its opening flag closes that AT), and slave 4's AT starts 4 bits into that
+// flag, before it is whole: on the line into the master AT 2 goes on into AT 4 (broken,
+// closed by AT 4's flag), AT 3 is gone. The master's chip took AT 3's start at its flag's
+// start, inside AT 2's closing flag, and ended AT 2 there, received, when it had come that
+// far before AT 4's cut (the reference path), but not when handed all three at once (the fast
+// path with a fault configured, which reported no collision): NERR of AT 2 apart (the mixed
+// property test). A frame's start is now taken once the frame in progress has ended: both
+// paths count AT 2, AT 3 and AT 4 missing every cycle (AT 4 comes while the master's header
+// list still waits for AT 3, 410B §4.2: the processor works through the list in order).
+#[test]
+fn a_closing_flag_cut_before_it_is_whole_breaks_the_telegram_on_both_paths() {
+    let (mut ring, cycle) = mixed_ring(4, 2, 10, false, 0);
+    shift_ats(&mut ring, cycle, &[0, 24, 12, -30]);
+    // A break of 1 ns at 4 ms, meeting no telegram: a ring with a fault (the fast path hands
+    // the master's telegrams to the chips and the slaves' ATs to the master at once).
+    let faults = mixed_faults(&[(0, 0, 0, 1, 0)], cycle, 5);
+    for d in [Delivery::Exact, Delivery::Fast] {
+        let mut r = ring.clone();
+        r.delivery = d;
+        let (mut cfg, hosts, plan) = build(&r);
+        cfg.faults = faults.clone();
+        let mut sim = Simulation::new(cfg, hosts).expect("valid");
+        sim.run_until(us(8 * cycle)).expect("runs");
+        let c = counters(&mut sim, &plan, 4);
+        assert_eq!(c.master_nerr, vec![0, 8, 8, 8], "{d:?}");
+        assert_eq!(sim.stats().fast_path_collisions, 0, "{d:?}");
+    }
+}

@@ -50,7 +50,9 @@ impl Chip {
                 // the output bound is found afresh.
                 out_bound.set(None);
             }
-            let tick = clock.tick_at_or_after(f.start);
+            // Taken no earlier than the end of the frame in progress.
+            let start_tick = clock.tick_at_or_after(f.start);
+            let tick = tp.frame_tick(start_tick);
             if let Some(core) = next_core.as_mut() {
                 let at = clock.instant(tick);
                 quiet &= at > now;
@@ -60,7 +62,7 @@ impl Chip {
                 // The processor's next tick is the earlier of its own and the first frame's.
                 *next = Some(next.map_or(tick, |k| k.min(tick)));
             }
-            tp.on_rx_frame(tick, f);
+            tp.on_rx_frame(start_tick, f);
         });
         if retracted {
             for start in self.serial.take_retracted() {

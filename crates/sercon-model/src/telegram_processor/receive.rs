@@ -21,6 +21,7 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
     let Some((_, frame)) = chip.tp.rx_queue.pop_front() else {
         return;
     };
+    chip.tp.last_taken = Some(frame.start);
     if chip.tp.rx_now.is_some() {
         // A frame starting before the previous ended (the line delivered overlapping
         // frames): the previous one ends here.
@@ -47,6 +48,7 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
         fcs_ok: frame.fcs_ok,
         end_tick,
         role,
+        start,
     });
     if !chip.tp.replacing.is_empty() {
         take_replacement(chip, start, tick);
@@ -135,6 +137,14 @@ pub(super) fn frame_end(chip: &mut Chip, tick: u64) {
     let Some(now) = chip.tp.rx_now.take() else {
         return;
     };
+    // A frame whose start was held behind this one's end (`TelegramProcessor::frame_tick`)
+    // starts here.
+    for (t, _) in chip.tp.rx_queue.iter_mut() {
+        if *t >= tick {
+            break;
+        }
+        *t = tick;
+    }
     match now.role {
         RxRole::Ignored => {}
         RxRole::Mst => crate::mst::mst_end(chip, tick, now.fcs_ok, &now.bytes),
