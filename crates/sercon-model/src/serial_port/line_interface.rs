@@ -178,6 +178,15 @@ impl Chip {
         self.serial.last_input_is_bits()
     }
 
+    /// Whether the receive line stays at one level after the last segment given to
+    /// [`Chip::line_input`]: it carries bits and no filler after them
+    /// ([`LineSegment::then_filler`]), so that without a further segment the receiver sees no
+    /// edge from their end on (410B §4.1 2H.13 FIBBR) and the transmitter resumes no filler
+    /// after an own telegram.
+    pub fn line_steady_after_last_input(&self) -> bool {
+        self.serial.line_steady_after_last_input()
+    }
+
     /// Whether the repeater's copies of the received signal (410B §1 "The slaves regenerate
     /// and repeat their received data", 1H.3 REPON) appear in the line output (on after
     /// [`Chip::new`]). A simulation that carries every received segment down the ring itself

@@ -297,6 +297,13 @@ impl SerialPort {
             .is_some_and(|s| matches!(s.signal, LineSignal::Bits(_)))
     }
 
+    /// `Chip::line_steady_after_last_input`.
+    pub(crate) fn line_steady_after_last_input(&self) -> bool {
+        self.rx
+            .last_segment()
+            .is_some_and(|s| matches!(s.signal, LineSignal::Bits(_)) && !s.then_filler)
+    }
+
     /// Whether the repeater's copies of the received signal are released as output
     /// (`Chip::set_forward_output`).
     pub(crate) fn set_forward_output(&mut self, on: bool) {
