@@ -115,9 +115,6 @@ pub(crate) struct RxNow {
     pub(crate) fcs_ok: bool,
     pub(crate) end_tick: u64,
     pub(crate) role: RxRole,
-    /// Where the frame starts on the line (which frame a take-back names,
-    /// [`take_back_frame`]).
-    pub(crate) start: Instant,
 }
 
 impl RxNow {
@@ -154,7 +151,9 @@ pub(crate) struct TelegramProcessor {
     pub(crate) rx_queue: VecDeque<(u64, HeardFrame)>,
     pub(crate) rx_now: Option<RxNow>,
     /// The start of the last frame taken from `rx_queue` (its start processed, or passed
-    /// over): a take-back of a frame that starts no later finds it taken.
+    /// over): a take-back of a frame that starts no later finds it taken. The frame in
+    /// progress (`rx_now`) is that frame: none starts while one is in progress
+    /// (`first_frame_tick`), and an ignored one leaves `rx_now` empty.
     pub(crate) last_taken: Option<Instant>,
     /// Frames that replace a queued frame of the same start the receiver took back
     /// ([`take_back_frame`]): the queued one decides at its start, as a chip that had
@@ -305,24 +304,6 @@ impl TelegramProcessor {
         }
     }
 
-    /// The tick at which a frame starting at MCLK tick `start` is taken: no earlier than
-    /// the end of the frame in progress. Two frames the receiver reports overlap only where
-    /// they share a flag, the closing one of the first being the opening one of the next
-    /// (HDLC; a telegram cut inside its closing flag by the next one's, a repeater's own
-    /// telegram over the one it repeats, 410B §1): the first ends when that flag is whole,
-    /// and the next starts there. Taking the next one's start at the flag's start ended the
-    /// first before its flag was whole, so that a cut of that flag still to come, which breaks
-    /// the first telegram on the line, came too late for it on a chip that had taken the
-    /// next start already but not on one handed the cut first (the master's NERR apart on the
-    /// simulator's two paths, found by the mixed property test).
-    #[inline]
-    pub(crate) fn frame_tick(&self, start: u64) -> u64 {
-        match &self.rx_now {
-            Some(r) => start.max(r.end_tick),
-            None => start,
-        }
-    }
-
     /// Queues a frame the receiver saw (contract with `serial_port`): processed at its
     /// start and end.
     /// `start_tick` is the first MCLK tick at or after the frame's start.
@@ -354,9 +335,9 @@ impl TelegramProcessor {
 #[inline(never)]
 pub(crate) fn take_back_frame(chip: &mut Chip, start: Instant) {
     // Taken: its start was processed (in progress, or over: ended, or passed over as not
-    // for this chip). A start deferred behind a frame still in progress (`first_frame_tick`)
-    // is not taken yet, whatever the chip's time.
-    let in_progress = chip.tp.rx_now.as_ref().is_some_and(|r| r.start == start);
+    // for this chip). A start held behind a frame still in progress (`first_frame_tick`) is
+    // not taken yet, whatever the chip's time.
+    let in_progress = chip.tp.rx_now.is_some() && chip.tp.last_taken == Some(start);
     let taken = in_progress || chip.tp.last_taken.is_some_and(|t| t >= start);
     let q = &mut chip.tp.rx_queue;
     // The earlier report comes first among frames of one start (`on_rx_frame`).
@@ -407,13 +388,24 @@ pub(crate) fn frame_is_mst(bytes: &[u8]) -> bool {
     receive::is_mst(bytes)
 }
 
-/// The tick at which the first queued frame's start is taken: its own, or the end of the
-/// frame in progress when that is later (`TelegramProcessor::frame_tick`).
+/// The tick of the first queued frame's start; `None` while a frame is in progress.
+///
+/// Two frames the receiver reports overlap only where they share a flag, the closing one of
+/// the first being the opening one of the next (HDLC; a telegram cut inside its closing flag
+/// by the next one's, a repeater's own telegram over the one it repeats, 410B §1): the first
+/// ends when that flag is whole, and the next starts there (`receive::frame_end` moves a
+/// start held so to that tick). Taking the next one's start at the flag's start ended the
+/// first before its flag was whole, so that a cut of that flag still to come, which breaks the
+/// first telegram on the line, came too late for it on a chip that had taken the next start
+/// already but not on one handed the cut first (the master's NERR apart on the simulator's
+/// two paths, found by the mixed property test; spec-notes "A frame starts once the frame in
+/// progress has ended"). The frame in progress ends no later than any queued frame starts,
+/// so while it lasts the processor's next tick is its own ([`TelegramProcessor::next_tick`]).
 pub(crate) fn first_frame_tick(chip: &Chip) -> Option<u64> {
-    chip.tp
-        .rx_queue
-        .front()
-        .map(|(tick, _)| chip.tp.frame_tick(*tick))
+    if chip.tp.rx_now.is_some() {
+        return None;
+    }
+    chip.tp.rx_queue.front().map(|(tick, _)| *tick)
 }
 
 /// The next tick at which the telegram processor acts.
