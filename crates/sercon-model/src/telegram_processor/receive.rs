@@ -21,7 +21,6 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
     let Some((_, frame)) = chip.tp.rx_queue.pop_front() else {
         return;
     };
-    chip.tp.last_taken = Some(frame.start);
     if chip.tp.rx_now.is_some() {
         // A frame starting before the previous ended (the line delivered overlapping
         // frames): the previous one ends here.
@@ -132,9 +131,6 @@ fn count_error(chip: &mut Chip, at: u16) {
 }
 
 /// The frame being received ended at `tick`.
-// Not inlined: its place in the event loop's code was measured (session 18: inlined into
-// `Chip::advance_to`, a ring-8 cycle took ≈ 250 instructions more).
-#[inline(never)]
 pub(super) fn frame_end(chip: &mut Chip, tick: u64) {
     let Some(now) = chip.tp.rx_now.take() else {
         return;
@@ -145,22 +141,6 @@ pub(super) fn frame_end(chip: &mut Chip, tick: u64) {
         RxRole::Telegram { at, hdr } => {
             finish(chip, tick, at, hdr, &now.bytes, now.fcs_ok);
         }
-    }
-    if chip.tp.rx_queue.front().is_some_and(|(t, _)| *t < tick) {
-        release_held_starts(chip, tick);
-    }
-}
-
-/// The frames whose start was held behind the frame that ended at `tick`
-/// (`first_frame_tick`) start here.
-#[cold]
-#[inline(never)]
-fn release_held_starts(chip: &mut Chip, tick: u64) {
-    for (t, _) in chip.tp.rx_queue.iter_mut() {
-        if *t >= tick {
-            break;
-        }
-        *t = tick;
     }
 }
 
