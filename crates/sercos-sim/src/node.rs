@@ -90,7 +90,8 @@ pub(crate) struct Node {
 
 /// The ends of a drifting node's last input and output segments of bits, in simulation
 /// and in node time: a segment that starts where the one before ended goes on from its end
-/// in the other time too ([`Node::map_in`], [`Node::map_out`]).
+/// in the other time too, and one that starts after it no earlier than that end
+/// ([`Node::map_in`], [`Node::map_out`]).
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Contiguity {
     /// The last input's end: (simulation time, node time).
@@ -104,6 +105,7 @@ pub(crate) struct Contiguity {
 /// `map(start)` but no earlier than the end in the other time; else `map(start)`. `last`
 /// becomes the end of `seg`'s bits (a steady segment keeps it).
 ///
+/// A receiver takes the line in the order it comes and a repeater forwards it so (410B §1).
 /// The bits keep their length in both times (spec-notes "Own clocks"), so their end lies up
 /// to length × the clock error apart from where the clock maps it: mapped alone, a segment
 /// that follows the bits closer than that would start before their end in the other time
