@@ -228,6 +228,12 @@ fn expected(
                     if ok {
                         c.slave_nerr[s - 1] += u16::from(waiting);
                         waiting = true;
+                    } else if waiting && address_came_through(faulty, r) {
+                        // A broken MST that no longer reads as one (ADR 255 and one byte,
+                        // 410B §4.2) has the MDT's address: the header waiting for the MDT
+                        // takes it at its start and it ends in error.
+                        c.slave_nerr[s - 1] += 1;
+                        waiting = false;
                     }
                 }
                 "MDT" if waiting && ok => waiting = false,
@@ -251,8 +257,9 @@ fn expected(
     c
 }
 
-/// Whether the faulty log has, for the fault-free log's MDT `r`, a frame on its fibre that
-/// starts within 2 µs of it with the MDT's address (ADR 255): a broken MDT a slave takes.
+/// Whether the faulty log has, for the fault-free log's MDT or MST `r`, a frame on its fibre
+/// that starts within 2 µs of it with the MDT's address (ADR 255) and does not read as an
+/// MST: a broken frame a slave waiting for its MDT takes.
 fn address_came_through(faulty: &[Rec], r: &Rec) -> bool {
     faulty.iter().any(|f| {
         f.seg == r.seg && f.kind != "MST" && f.adr == Some(255) && f.ps.abs_diff(r.ps) <= 2_000_000
@@ -510,9 +517,11 @@ fn any_fault(kind: u8, target: usize, at: Instant, len: Duration, x: u32, nodes:
 /// fast = exact and no corrupted data.
 fn check_mixed(ring: &StaticRing, faults: &[Fault], cycle: u64) {
     let cy = |c: u64| us(c * cycle);
-    // Faults end by cycle 11's start; half a cycle later its MSTs have come, which count
-    // the MDTs of cycle 10 that no slave took (`expected`).
-    let (t0, t1) = (cy(3), cy(11) + Duration::from_micros(cycle / 2));
+    // Faults end by cycle 11's start, but a burst set while a fibre is broken hits the first
+    // telegram after the repair, cycle 11's MST at the latest; the counts end in the pause
+    // after cycle 11's telegrams (`quiet_instant`), once its MSTs have counted the MDTs of
+    // cycle 10 that no slave took (`expected`).
+    let (t0, t1) = (cy(3), quiet_instant(ring, cycle, 11));
     let accounted = faults.iter().all(|f| match f.kind {
         FaultKind::ClockDrift { .. } => false,
         FaultKind::PowerOff { node, .. } => node != 0,
@@ -545,6 +554,48 @@ fn check_mixed(ring: &StaticRing, faults: &[Fault], cycle: u64) {
         assert!(outs[0].bad_data.is_empty(), "{:?}", outs[0].bad_data);
         assert!(outs[1].bad_data.is_empty(), "{:?}", outs[1].bad_data);
     }
+}
+
+/// The middle of the longest pause on the fibres of `ring` (cycle `cycle` µs) run without
+/// faults, after the last MST of cycle `c` and before a quarter into cycle `c + 1`: no
+/// telegram is on its way to a receiver then, so every count a telegram logged before it
+/// brings has come (a slave's at the next MST, the master's at the close of the AT's
+/// window, 410B §4.2.1 TCHK: up to a fibre's delay and the telegram's length after the log's
+/// instant, where it enters the fibre) and none a telegram logged after it brings. A fixed
+/// instant half a cycle into cycle `c` did not do: on 1350 m fibres at 16 Mbit/s the master
+/// counts slave 6's missing AT of that cycle 1 µs after it (a burst set while fibre 0 was
+/// broken, which hit cycle 11's MST after the repair).
+fn quiet_instant(ring: &StaticRing, cycle: u64, c: u64) -> Instant {
+    let (from, next, to) = (
+        us(c * cycle),
+        us((c + 1) * cycle),
+        us((c + 1) * cycle + cycle / 4),
+    );
+    let mut clean = ring.clone();
+    clean.delivery = Delivery::Fast;
+    let (cfg, hosts, _) = build(&clean);
+    let (_, out) = run(cfg, hosts, to);
+    let recs = records(&out.log);
+    let (a, b) = (from.as_picos(), to.as_picos());
+    let start = recs
+        .iter()
+        .filter(|r| r.kind == "MST" && r.ps >= a && r.ps < next.as_picos())
+        .map(|r| r.ps)
+        .max()
+        .expect("cycle c has MSTs");
+    let mut times: Vec<u64> = recs
+        .iter()
+        .map(|r| r.ps)
+        .filter(|p| *p >= start && *p < b)
+        .collect();
+    times.push(b);
+    times.sort_unstable();
+    let (lo, hi) = times
+        .windows(2)
+        .map(|w| (w[0], w[1]))
+        .max_by_key(|(x, y)| y - x)
+        .expect("two instants at least");
+    Instant::from_picos(lo + (hi - lo) / 2)
 }
 
 proptest! {
@@ -1593,4 +1644,50 @@ fn a_slave_telegram_passing_a_repeater_that_hears_a_steady_line_is_counted() {
     }
     // The difference the count stands for.
     assert_eq!(fibbr, vec![false, true]);
+}
+
+// 410B §4.2.1 TCHK, NERR; §4.2 NMSTERR. Six slaves at 16 Mbit/s on 1350 m fibres, fibre 0
+// broken from 1900 to 2600 µs and a one-bit burst set on it at 1950 µs, while it is dark:
+// the burst hits the first telegram after the repair, cycle 11's MST, so no slave sends its
+// AT in cycle 11. The master counts slave 6's missing AT at its window's close, 126 µs into
+// the cycle, after the instant half a cycle in where the accounting used to end (it then
+// expected a count the master had not yet made; found by a 1000-case soak, session 18).
+#[test]
+fn a_burst_held_across_a_break_is_accounted_in_the_cycle_it_hits() {
+    let (ring, cycle) = mixed_ring(6, 0, 1350, false, 0);
+    let faults = [
+        fibre_break(0, us(1900), us(2600)),
+        Fault {
+            at: us(1950),
+            kind: FaultKind::BitErrorBurst {
+                segment: 0,
+                bits: 1,
+            },
+        },
+    ];
+    let t1 = quiet_instant(&ring, cycle, 11);
+    assert!(t1 > us(11 * cycle + cycle / 2), "{t1:?}");
+    let (_, _, want) = check_accounting(&ring, &faults, us(3 * cycle), t1, &[]);
+    // Cycles 8 to 10 lost with the break, cycle 11 with its MST.
+    assert_eq!(want.master_nerr, vec![4; 6]);
+    assert_eq!(want.nmsterr, vec![4; 6]);
+}
+// 410B §4.2 (an MST is ADR 255 and one byte), §4.2.1 ACHK, NERR. Three slaves at 16 Mbit/s,
+// MDT after the ATs, bit errors on fibre 1 from 1016.8 to 1258.4 µs: cycle 4's MDT loses its
+// address (slaves 2 and 3 keep waiting for an MDT, their MDT headers have TCHK = 0), and cycle
+// 5's MST breaks off after four bytes. That frame has the MDT's address and does not read as
+// an MST: the waiting header takes it and counts it broken (NERR 1 at slaves 2 and 3), where
+// the accounting expected the block to wait on for cycle 5's MDT (found by a 5000-case run).
+#[test]
+fn a_broken_mst_taken_by_a_header_waiting_for_the_mdt_is_counted() {
+    let (ring, cycle) = mixed_ring(3, 0, 82, true, 130);
+    let faults = mixed_faults(&[(218, 25, 67376, 966392, 1141607210)], cycle, 4);
+    assert!(matches!(
+        faults[0].kind,
+        FaultKind::BitErrors { segment: 1, .. }
+    ));
+    let t1 = quiet_instant(&ring, cycle, 11);
+    let (_, _, want) = check_accounting(&ring, &faults, us(3 * cycle), t1, &[]);
+    assert_eq!(want.slave_nerr, vec![0, 1, 1]);
+    assert_eq!(want.nmsterr, vec![0, 1, 1]);
 }
