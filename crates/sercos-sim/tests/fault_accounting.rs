@@ -1604,6 +1604,38 @@ fn a_drifting_repeater_keeps_a_telegram_that_follows_closely_on_the_one_before()
     }
 }
 
+// HDLC; 410B §1 "or send their own telegrams", §4.2.1 NERR, TCHK. Four slaves at 2 Mbit/s,
+// ATs moved by 0, +24, +12, −30 µs (TRT 106, 174, 206, 208): slave 3's AT starts inside the
+// closing flag of slave 2's AT it repeats (its opening flag closes that AT), and slave 4's AT
+// starts 4 bits into that flag, before it is whole: on the line into the master AT 2 goes on
+// into AT 4 (broken, closed by AT 4's opening flag), AT 3 is gone, AT 4 is whole. The
+// master's chip took AT 3's start at its flag's start, inside AT 2's closing flag, and ended
+// AT 2 there, received, when it had come that far before AT 4's cut (the reference path), but
+// not when handed all three at once (the fast path with a fault configured, which reported no
+// collision): NERR of AT 2 apart (the mixed property test). A frame's start is now taken once
+// the frame in progress has ended, and judged against its receive window at its own start
+// tick: both paths count AT 2 broken and AT 3 missing every cycle, and receive AT 4, which
+// starts in its own window (AT 3's closed 2 µs before).
+#[test]
+fn a_closing_flag_cut_before_it_is_whole_breaks_the_telegram_on_both_paths() {
+    let (mut ring, cycle) = mixed_ring(4, 2, 10, false, 0);
+    shift_ats(&mut ring, cycle, &[0, 24, 12, -30]);
+    // A break of 1 ns at 4 ms, meeting no telegram: a ring with a fault (the fast path hands
+    // the master's telegrams to the chips and the slaves' ATs to the master at once).
+    let faults = mixed_faults(&[(0, 0, 0, 1, 0)], cycle, 5);
+    for d in [Delivery::Exact, Delivery::Fast] {
+        let mut r = ring.clone();
+        r.delivery = d;
+        let (mut cfg, hosts, plan) = build(&r);
+        cfg.faults = faults.clone();
+        let mut sim = Simulation::new(cfg, hosts).expect("valid");
+        sim.run_until(us(8 * cycle)).expect("runs");
+        let c = counters(&mut sim, &plan, 4);
+        assert_eq!(c.master_nerr, vec![0, 8, 8, 0], "{d:?}");
+        assert_eq!(sim.stats().fast_path_collisions, 0, "{d:?}");
+    }
+}
+
 // 410B §1, §4.1 2H.13 FIBBR. Three slaves at 2 Mbit/s on 1925 m fibres, slave 1's AT 12 µs
 // early: it starts at the end of the MDT slave 1 repeats, so the filler after the MDT is cut
 // to nothing at slave 1's output. In a run with a fault configured (a distortion of 1 ns on
@@ -1690,4 +1722,40 @@ fn a_broken_mst_taken_by_a_header_waiting_for_the_mdt_is_counted() {
     let (_, _, want) = check_accounting(&ring, &faults, us(3 * cycle), t1, &[]);
     assert_eq!(want.slave_nerr, vec![0, 1, 1]);
     assert_eq!(want.nmsterr, vec![0, 1, 1]);
+}
+
+// HDLC; 410B §1, §4.2.1 TCHK, NERR. Three slaves at 2 Mbit/s, MDT after the ATs, ATs moved
+// by +21 and −7 µs (TRT 25 and 41): slave 2's AT starts 16 µs into slave 1's, which it cuts
+// at its output (410B §1: the own telegram over the repeated one); on the line into the
+// master AT 1 breaks off and AT 2's opening flag closes it. AT 2's start is taken once the
+// broken AT 1 has ended, at the end of that flag, but judged against AT 2's receive window
+// at its own start, where it lies: AT 2 is received on both paths, with or without a fault
+// configured (a start judged where it was taken counted it missing; the window's close waits
+// for the held start, else it came first).
+#[test]
+fn a_telegram_starting_inside_the_one_before_is_judged_at_its_own_start() {
+    let (mut ring, cycle) = mixed_ring(3, 2, 10, true, 635);
+    shift_ats(&mut ring, cycle, &[21, -7, 0]);
+    let (_, _, plan) = build(&ring);
+    assert_eq!(plan.at_trt_us, vec![25, 41, 92]);
+    for faults in [Vec::new(), mixed_faults(&[(0, 0, 0, 1, 0)], cycle, 4)] {
+        for d in [Delivery::Exact, Delivery::Fast] {
+            let mut r = ring.clone();
+            r.delivery = d;
+            let (mut cfg, hosts, plan) = build(&r);
+            cfg.faults = faults.clone();
+            let mut sim = Simulation::new(cfg, hosts).expect("valid");
+            sim.run_until(us(8 * cycle)).expect("runs");
+            let c = counters(&mut sim, &plan, 3);
+            let collisions = sim.stats().fast_path_collisions;
+            // Without a fault the fast path carries AT 1 past slave 2 ahead of its chip and
+            // cannot follow the cut there: it says so (`sercon ring` reruns such a ring).
+            if d == Delivery::Fast && faults.is_empty() {
+                assert!(collisions > 0 || c.master_nerr == [8, 0, 0]);
+                continue;
+            }
+            assert_eq!(c.master_nerr, vec![8, 0, 0], "{d:?} {faults:?}");
+            assert_eq!(collisions, 0, "{d:?} {faults:?}");
+        }
+    }
 }

@@ -51,14 +51,19 @@ impl Chip {
                 out_bound.set(None);
             }
             let tick = clock.tick_at_or_after(f.start);
-            if let Some(core) = next_core.as_mut() {
-                let at = clock.instant(tick);
-                quiet &= at > now;
-                *core = Some(core.map_or(at, |c| c.min(at)));
-            }
-            if let Some(next) = tp_next.as_mut() {
-                // The processor's next tick is the earlier of its own and the first frame's.
-                *next = Some(next.map_or(tick, |k| k.min(tick)));
+            // While a frame is in progress the next starts at its end at the earliest
+            // (`telegram_processor::first_frame_tick`), which the next ticks hold already.
+            if tp.rx_now.is_none() {
+                if let Some(core) = next_core.as_mut() {
+                    let at = clock.instant(tick);
+                    quiet &= at > now;
+                    *core = Some(core.map_or(at, |c| c.min(at)));
+                }
+                if let Some(next) = tp_next.as_mut() {
+                    // The processor's next tick is the earlier of its own and the first
+                    // frame's.
+                    *next = Some(next.map_or(tick, |k| k.min(tick)));
+                }
             }
             tp.on_rx_frame(tick, f);
         });

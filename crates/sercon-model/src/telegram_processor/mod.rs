@@ -150,6 +150,15 @@ pub(crate) struct TelegramProcessor {
     /// start (computed once when queued: the event loop asks for it on every turn).
     pub(crate) rx_queue: VecDeque<(u64, HeardFrame)>,
     pub(crate) rx_now: Option<RxNow>,
+    /// The start of the last frame taken from `rx_queue` (its start processed, or passed
+    /// over): a take-back of a frame that starts no later finds it taken. The frame in
+    /// progress (`rx_now`) is that frame: none starts while one is in progress
+    /// (`first_frame_tick`), and an ignored one leaves `rx_now` empty.
+    pub(crate) last_taken: Option<Instant>,
+    /// The first frame whose start was held behind the frame in progress
+    /// (`receive::release_held_starts`): its start instant and the tick of that start, at
+    /// which its receive window (410B §4.2.1 TCHK) and an MST's timing are judged.
+    pub(crate) held_start: Option<(Instant, u64)>,
     /// Frames that replace a queued frame of the same start the receiver took back
     /// ([`take_back_frame`]): the queued one decides at its start, as a chip that had
     /// taken it would have; the replacement gives its end.
@@ -329,17 +338,22 @@ impl TelegramProcessor {
 #[cold]
 #[inline(never)]
 pub(crate) fn take_back_frame(chip: &mut Chip, start: Instant) {
-    let tick = chip.clock.tick_at_or_after(start);
-    let begun = chip.clock.instant(tick) <= chip.now;
+    // Taken: its start was processed (in progress, or over: ended, or passed over as not
+    // for this chip). A start held behind a frame still in progress (`first_frame_tick`) is
+    // not taken yet, whatever the chip's time.
+    let in_progress = chip.tp.rx_now.is_some() && chip.tp.last_taken == Some(start);
+    let taken = in_progress || chip.tp.last_taken.is_some_and(|t| t >= start);
     let q = &mut chip.tp.rx_queue;
     // The earlier report comes first among frames of one start (`on_rx_frame`).
     let first = q.iter().position(|(_, f)| f.start == start);
-    if begun {
-        // Its start was taken: the frame in progress (`rx_now`) takes the new report's end.
+    if taken {
+        // The new report is of a frame whose start is behind: the frame in progress takes
+        // its end; one already over stays as it was decided (its report is dropped).
         let new = first.and_then(|i| q.remove(i));
-        if let Some(now) = chip.tp.rx_now.as_mut() {
+        if in_progress && let Some(now) = chip.tp.rx_now.as_mut() {
             match new {
                 Some((_, f)) => {
+                    let tick = chip.clock.tick_at_or_after(start);
                     let end_tick = chip.clock.tick_at_or_after(f.end).max(tick);
                     now.end_as(f, end_tick);
                 }
@@ -378,8 +392,23 @@ pub(crate) fn frame_is_mst(bytes: &[u8]) -> bool {
     receive::is_mst(bytes)
 }
 
-/// The tick of the first queued frame's start.
+/// The tick of the first queued frame's start; `None` while a frame is in progress.
+///
+/// Two frames the receiver reports overlap only where they share a flag, the closing one of
+/// the first being the opening one of the next (HDLC; a telegram cut inside its closing flag
+/// by the next one's, a repeater's own telegram over the one it repeats, 410B §1): the first
+/// ends when that flag is whole, and the next starts there (`receive::frame_end` moves a
+/// start held so to that tick). Taking the next one's start at the flag's start ended the
+/// first before its flag was whole, so that a cut of that flag still to come, which breaks the
+/// first telegram on the line, came too late for it on a chip that had taken the next start
+/// already but not on one handed the cut first (the master's NERR apart on the simulator's
+/// two paths, found by the mixed property test; spec-notes "A frame starts once the frame in
+/// progress has ended"). The frame in progress ends no later than any queued frame starts,
+/// so while it lasts the processor's next tick is its own ([`TelegramProcessor::next_tick`]).
 pub(crate) fn first_frame_tick(chip: &Chip) -> Option<u64> {
+    if chip.tp.rx_now.is_some() {
+        return None;
+    }
     chip.tp.rx_queue.front().map(|(tick, _)| *tick)
 }
 
@@ -457,6 +486,9 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
             // The window opens at this tick (after the events above of the same tick, which
             // may have moved on to another header).
             let _ = announce_opened(chip, tick);
+            if close == Some(tick) && held_in_window(chip, tick) {
+                return;
+            }
             if close == Some(tick) {
                 receive::missing(chip, at, hdr);
                 advance(chip, tick, hdr.pt);
@@ -468,6 +500,30 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
         Some(Cur::End { at, ready }) if ready == tick => end_marker(chip, tick, at),
         _ => abort_block(chip, tick),
     }
+}
+
+/// At the close of the current receive window (tick `close`), whether a frame that started in
+/// it waits for the frame in progress to end (`first_frame_tick`): then the window closes at
+/// that end instead, after the held start, which is judged against the window at its own tick
+/// (`receive::frame_start`; 410B §4.2.1 TCHK: a telegram that started in its window is not
+/// missing; spec-notes "A frame starts once the frame in progress has ended").
+#[cold]
+#[inline(never)]
+fn held_in_window(chip: &mut Chip, close: u64) -> bool {
+    let Some(end) = chip.tp.rx_now.as_ref().map(|r| r.end_tick) else {
+        return false;
+    };
+    if !chip.tp.rx_queue.front().is_some_and(|(k, _)| *k <= close) {
+        return false;
+    }
+    if let Some(Block {
+        cur: Some(Cur::Rx { close: c, .. }),
+        ..
+    }) = chip.tp.block.as_mut()
+    {
+        *c = Some(end.max(close));
+    }
+    true
 }
 
 /// Applies, in their order, the events due at or before `tick` that were no events of
