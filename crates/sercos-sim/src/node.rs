@@ -143,6 +143,39 @@ impl Node {
         follow(&mut self.contig.input, start, seg, |t| clock.to_local(t))
     }
 
+    /// A node whose clock starts to drift (its times so far the simulation's): the bits it
+    /// received and sent last end at the same instant in both times, and a segment that
+    /// follows them at once (their filler, after a telegram under way when the drift began)
+    /// goes on from there ([`follow`]), as the fast path's telegram carrying its filler does.
+    /// Mapped alone by the clock it started up to the telegram's length × the clock error
+    /// apart (a slave 684 ppm fast from the middle of the MST: the master's filler after it
+    /// 14 ns late, and slave 1's AT then from the other level on the reference path only).
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn start_contiguity(&mut self) {
+        self.contig.input = self.chip.last_input_bits_end().map(|e| (e, e));
+        self.contig.output = Some((self.chip_out_end, self.chip_out_end));
+    }
+
+    /// A filler (node time) that starts where the bits this node received last end: the
+    /// sender resumed it right after its telegram (410B §1; the fast path's telegram carrying
+    /// its filler, split where a fibre's faults or traces take them apart), so it goes on from
+    /// the level those bits left, as the sender's line does. `Simulation::deliver` may have
+    /// handed the bits over inverted (taken from the level the receiver is at); the filler,
+    /// split from them before, still started from their level as sent: the receiver then saw
+    /// no edge at its first bit (a slave's AT and its filler at a repeater 684 ppm fast whose
+    /// AT began 4.4 ns before an edge of the filler it repeated: the master's INT_FIBBR, 410B
+    /// §4.1 2H.13, on the reference path only after a 16 µs break further on).
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn continue_filler(&self, seg: &mut LineSegment) {
+        if self.chip.last_input_bits_end() == Some(seg.start)
+            && let Some(level) = self.chip.received_level_at(seg.start)
+        {
+            seg.level_before = level;
+        }
+    }
+
     /// Simulation time of an output segment starting at `start` (node time), as
     /// [`Node::map_in`]: one that starts where the last one's bits ended follows them.
     #[cold]

@@ -1268,14 +1268,18 @@ impl Simulation {
         // The fast path leaves out segments this receiver ignores, so the level it saw
         // last may differ from the sender's: a telegram is taken from the level the
         // receiver is at (NRZI decodes an inverted telegram the same).
-        if matches!(local.signal, LineSignal::Bits(_))
-            && node
-                .chip
-                .received_level_at(local.start)
-                .is_some_and(|level| level != local.level_before)
-        {
-            // The sender's hint has the inverted bits at hand (`FrameHint::twin`).
-            local = local.inverted();
+        match local.signal {
+            LineSignal::Bits(_)
+                if node
+                    .chip
+                    .received_level_at(local.start)
+                    .is_some_and(|level| level != local.level_before) =>
+            {
+                // The sender's hint has the inverted bits at hand (`FrameHint::twin`).
+                local = local.inverted();
+            }
+            LineSignal::Filler => node.continue_filler(&mut local),
+            _ => {}
         }
         // The exact path matches the repeater's copies with what it delivered; on the fast
         // path the chip releases none (`Chip::set_forward_output`).
@@ -1682,6 +1686,9 @@ impl Simulation {
             FaultKind::ClockDrift { node, ppm } => {
                 self.advance_node(node, t);
                 if let Some(n) = self.nodes.get_mut(node) {
+                    if n.clock.is_identity() {
+                        n.start_contiguity();
+                    }
                     n.clock.set_error_ppb(t, ppm_to_ppb(ppm));
                 }
                 self.first_drifting = first_drifting(&self.nodes);

@@ -1759,3 +1759,30 @@ fn a_telegram_starting_inside_the_one_before_is_judged_at_its_own_start() {
         }
     }
 }
+// 410B §1, §4.1 2H.13 FIBBR. Five slaves at 2 Mbit/s, MDT after the ATs, slave 1 drifting by
+// +684 ppm and slave 2 by −1031 ppm from cycle 4, fibre 2 broken for 16 µs in cycle 5 (a
+// 20 000-case run). Slave 1's AT starts 4.4 ns before an edge of the filler it repeats, after
+// it in slave 1's time, so it is sent from the other level than the line shows downstream:
+// receivers take it inverted (`Simulation::deliver`). On the fast path the filler after it,
+// split from the AT before that, still started from the AT's level as sent, so the master
+// saw no edge at its first bit, and its INT_FIBBR differed from the reference path's after
+// the break. A filler that starts where the bits a receiver got last end now goes on from
+// their level (`Node::continue_filler`).
+#[test]
+fn a_filler_split_from_a_telegram_taken_inverted_goes_on_from_its_level() {
+    let (ring, cycle) = mixed_ring(5, 2, 10, true, 0);
+    let faults = mixed_faults(
+        &[
+            (54, 26, 175901, 1, 973704334),
+            (14, 2, 1263728, 16000, 0),
+            (166, 5, 10971, 1, 206886392),
+        ],
+        cycle,
+        6,
+    );
+    assert!(matches!(
+        faults[1].kind,
+        FaultKind::FibreBreak { segment: 2, .. }
+    ));
+    check_mixed(&ring, &faults, cycle);
+}

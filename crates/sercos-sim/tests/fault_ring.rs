@@ -452,3 +452,62 @@ fn rs485_bus_exchanges_and_reports_collisions() {
     assert!(errs >= 4, "{errs}");
     let _ = Instant::ZERO;
 }
+
+// 410B §1; spec-notes "Own clocks". Slave 1 starts to drift (+2000 ppm) 10 µs into an MST it
+// receives (2 Mbit/s: the MST lasts 24.5 µs). The master's filler follows the MST at once, so
+// in slave 1's time it starts where the MST's bits end, as on the fast path, where the MST
+// carries its filler and came before the drift. Mapped alone by the drifting clock on the
+// reference path, it started 29 ns later (the MST's remaining 14.5 µs × 2000 ppm): every
+// filler edge slave 1 saw and repeated lay 29 ns apart on the two paths.
+#[test]
+fn a_clock_that_starts_to_drift_inside_a_telegram_keeps_its_filler_behind_it() {
+    let mut ring = StaticRing::new(2, 1000);
+    ring.bit_rate = sercos_wire::time::BitRate::Mbit2;
+    ring.mdt_after_ats = true;
+    let bt = ring.bit_rate.bit_time();
+    let (cfg, hosts, _) = build(&ring);
+    let (_, out) = run(cfg, hosts, us(4100));
+    let mst = parse_log(&out.log)
+        .into_iter()
+        .find(|l| l.seg == 0 && l.kind == "MST" && l.ps > 4_000_000_000)
+        .expect("cycle 4's MST")
+        .ps;
+    let sim_probe = {
+        let (cfg, hosts, _) = build(&ring);
+        Simulation::new(cfg, hosts).expect("valid")
+    };
+    let delay = sim_probe.ring_delay(0, 1, bt).expect("ring");
+    // Slave 1's time is the simulation's until the drift starts, inside the MST.
+    let start = Instant::from_picos(mst) + delay;
+    let end = start + bt.saturating_mul(frame_bit_len(&[255, 4]));
+    let drift_at = start + Duration::from_micros(10);
+    let mut levels = Vec::new();
+    for delivery in [Delivery::Exact, Delivery::Fast] {
+        let mut r = ring.clone();
+        r.delivery = delivery;
+        let (mut cfg, hosts, _) = build(&r);
+        cfg.faults = vec![Fault {
+            at: drift_at,
+            kind: FaultKind::ClockDrift {
+                node: 1,
+                ppm: 2000.0,
+            },
+        }];
+        let mut sim = Simulation::new(cfg, hosts).expect("valid");
+        sim.run_until(end + Duration::from_micros(8)).expect("runs");
+        let chip = sim.chip_mut(1).expect("slave 1");
+        // 20 ns after each of the filler's first edges in slave 1's time.
+        let seen: Vec<Option<bool>> = (0..8u64)
+            .map(|k| chip.received_level_at(end + bt.saturating_mul(k) + Duration::from_nanos(20)))
+            .collect();
+        assert!(seen.iter().all(Option::is_some), "{delivery:?}: {seen:?}");
+        levels.push(seen);
+    }
+    assert_eq!(levels[0], levels[1]);
+    // The filler's edges: the level changes from each sample to the next.
+    assert!(
+        levels[0].windows(2).all(|w| w[0] != w[1]),
+        "{:?}",
+        levels[0]
+    );
+}

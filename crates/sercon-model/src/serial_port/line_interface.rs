@@ -181,6 +181,12 @@ impl Chip {
         self.serial.last_input_is_bits()
     }
 
+    /// The end of the bits of the last segment given to [`Chip::line_input`], when it carries
+    /// bits (a telegram); `None` for a steady signal or before the first.
+    pub fn last_input_bits_end(&self) -> Option<Instant> {
+        self.serial.last_input_bits_end()
+    }
+
     /// Whether the receive line stays at one level after the last segment given to
     /// [`Chip::line_input`]: it carries bits and no filler after them
     /// ([`LineSegment::then_filler`]), so that without a further segment the receiver sees no

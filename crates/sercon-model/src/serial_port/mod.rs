@@ -297,6 +297,14 @@ impl SerialPort {
             .is_some_and(|s| matches!(s.signal, LineSignal::Bits(_)))
     }
 
+    /// `Chip::last_input_bits_end`.
+    pub(crate) fn last_input_bits_end(&self) -> Option<Instant> {
+        self.rx
+            .last_segment()
+            .filter(|s| matches!(s.signal, LineSignal::Bits(_)))
+            .and_then(|s| s.end())
+    }
+
     /// `Chip::line_steady_after_last_input`.
     pub(crate) fn line_steady_after_last_input(&self) -> bool {
         self.rx

@@ -513,7 +513,7 @@ fn held_in_window(chip: &mut Chip, close: u64) -> bool {
     let Some(end) = chip.tp.rx_now.as_ref().map(|r| r.end_tick) else {
         return false;
     };
-    if !chip.tp.rx_queue.front().is_some_and(|(k, _)| *k <= close) {
+    if chip.tp.rx_queue.front().is_none_or(|(k, _)| *k > close) {
         return false;
     }
     if let Some(Block {
