@@ -86,11 +86,14 @@ pub(crate) struct SegmentFaults {
     errors: Vec<(Instant, Instant, f64)>,
     bursts: Vec<(Instant, u32, bool)>,
     distortions: Vec<(Instant, Instant)>,
+    /// Keyed by the run's seed and the fibre; each segment's random errors and each burst's
+    /// place come from a stream of their own (the segment's start, the burst's time), so that
+    /// they do not depend on the order segments enter the fibre in.
     rng: ChaCha8Rng,
 }
 
 impl SegmentFaults {
-    /// The faults of `segment` among `faults`, with an RNG seeded from `seed` and `segment`.
+    /// The faults of `segment` among `faults`, with an RNG keyed by `seed` and `segment`.
     pub(crate) fn new(faults: &[Fault], segment: usize, seed: u64) -> Self {
         let mut s = SegmentFaults {
             breaks: Vec::new(),
@@ -169,12 +172,22 @@ impl SegmentFaults {
             let len = u64::from(b.1);
             if last > first {
                 let room = (last - first).saturating_sub(len).max(1);
+                // Where in the telegram: drawn from the burst's own stream (its time).
+                self.rng.set_stream(!b.0.as_picos());
+                self.rng.set_word_pos(0);
                 let at = first + self.rng.next_u64() % room;
                 flips.extend((at..(at + len).min(last)).collect::<Vec<_>>());
             }
         }
-        // Random errors while a period lasts.
+        // Random errors while a period lasts: drawn from a stream of the segment's own (its
+        // start on this fibre), so that which bits a period breaks does not depend on the
+        // order in which the simulation hands segments to the fibre (the fast path sends a
+        // slave's AT on before an earlier one of a slave further on; spec-notes "Faults").
         let bt = seg.bit_time.as_picos().max(1);
+        if !self.errors.is_empty() {
+            self.rng.set_stream(seg.start.as_picos());
+            self.rng.set_word_pos(0);
+        }
         for &(a, b, rate) in &self.errors {
             if rate.is_nan() || rate <= 0.0 || b <= seg.start || a > end {
                 continue;

@@ -1704,24 +1704,22 @@ fn a_burst_held_across_a_break_is_accounted_in_the_cycle_it_hits() {
     assert_eq!(want.master_nerr, vec![4; 6]);
     assert_eq!(want.nmsterr, vec![4; 6]);
 }
-// 410B §4.2 (an MST is ADR 255 and one byte), §4.2.1 ACHK, NERR. Three slaves at 16 Mbit/s,
-// MDT after the ATs, bit errors on fibre 1 from 1016.8 to 1258.4 µs: cycle 4's MDT loses its
-// address (slaves 2 and 3 keep waiting for an MDT, their MDT headers have TCHK = 0), and cycle
-// 5's MST breaks off after four bytes. That frame has the MDT's address and does not read as
-// an MST: the waiting header takes it and counts it broken (NERR 1 at slaves 2 and 3), where
-// the accounting expected the block to wait on for cycle 5's MDT (found by a 5000-case run).
+// 410B §4.2 (an MST is ADR 255 and one byte), §4.2.1 ACHK, NERR. Six slaves at 16 Mbit/s,
+// MDT after the ATs, bit errors on fibre 1 from 1871.6 to 2511.4 µs (a 40 000-case run of the
+// property test with the rule's branch for it taken out): an MDT loses its address, so the
+// slaves behind keep waiting for an MDT (their MDT headers have TCHK = 0), and the next
+// cycle's MST breaks off and no longer reads as one. That frame has the MDT's address: the
+// waiting header takes it and counts it broken, where the accounting expected the block to
+// wait on for that cycle's MDT. The rule counts it now.
 #[test]
 fn a_broken_mst_taken_by_a_header_waiting_for_the_mdt_is_counted() {
-    let (ring, cycle) = mixed_ring(3, 0, 82, true, 130);
-    let faults = mixed_faults(&[(218, 25, 67376, 966392, 1141607210)], cycle, 4);
+    let (ring, cycle) = mixed_ring(6, 0, 10, true, 922);
+    let faults = mixed_faults(&[(127, 36, 3486204, 2559372, 2974032219)], cycle, 7);
     assert!(matches!(
         faults[0].kind,
         FaultKind::BitErrors { segment: 1, .. }
     ));
-    let t1 = quiet_instant(&ring, cycle, 11);
-    let (_, _, want) = check_accounting(&ring, &faults, us(3 * cycle), t1, &[]);
-    assert_eq!(want.slave_nerr, vec![0, 1, 1]);
-    assert_eq!(want.nmsterr, vec![0, 1, 1]);
+    check_mixed(&ring, &faults, cycle);
 }
 
 // HDLC; 410B §1, §4.2.1 TCHK, NERR. Three slaves at 2 Mbit/s, MDT after the ATs, ATs moved
@@ -1785,4 +1783,47 @@ fn a_filler_split_from_a_telegram_taken_inverted_goes_on_from_its_level() {
         FaultKind::FibreBreak { segment: 2, .. }
     ));
     check_mixed(&ring, &faults, cycle);
+}
+
+// Faults act on the line only, seeded (issue 5 item 4): which bits a period of random errors
+// breaks is a matter of the fibre, the segment and the seed, not of the order in which the
+// simulation hands segments to the fibre. Five slaves at 16 Mbit/s, ATs moved so that slave
+// 2's AT comes before slave 1's (TRT 5 and 13 µs), bit errors on the fibre into the master:
+// the fast path sends slave 1's AT on before slave 2's when a run lets the slaves run ahead,
+// and drew the errors of one with the other's numbers: the master counted AT 1 broken with
+// the run stepped every µs and not with it stepped every 23 µs (a 20 000-case run of the
+// mixed property test).
+#[test]
+fn bit_errors_do_not_depend_on_the_order_segments_enter_a_fibre() {
+    let (mut ring, cycle) = mixed_ring(5, 0, 10, false, 27);
+    shift_ats(&mut ring, cycle, &[-8, -24, -20, 0, 2]);
+    let (_, _, plan) = build(&ring);
+    assert_eq!(plan.at_trt_us, vec![13, 5, 17, 45, 55]);
+    let faults = [Fault {
+        at: us(1000),
+        kind: FaultKind::BitErrors {
+            segment: 5,
+            until: us(2000),
+            rate: 2e-3,
+        },
+    }];
+    let (t0, t1) = (us(3 * cycle), us(10 * cycle));
+    let runs: Vec<Outcome> = [
+        (Delivery::Exact, 23),
+        (Delivery::Fast, 1),
+        (Delivery::Fast, 23),
+        (Delivery::Fast, 1750),
+    ]
+    .into_iter()
+    .map(|(d, step)| {
+        let mut r = ring.clone();
+        r.delivery = d;
+        run_case(&r, &faults, t0, t1, Duration::from_micros(step))
+    })
+    .collect();
+    let hit: u16 = runs[0].after.master_nerr.iter().sum();
+    assert!(hit > 0, "the errors broke no AT");
+    for r in &runs[1..] {
+        same_runs(&runs[0], r, "bit errors");
+    }
 }
