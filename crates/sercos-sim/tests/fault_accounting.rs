@@ -1624,16 +1624,28 @@ fn a_closing_flag_cut_before_it_is_whole_breaks_the_telegram_on_both_paths() {
     // the master's telegrams to the chips and the slaves' ATs to the master at once).
     let faults = mixed_faults(&[(0, 0, 0, 1, 0)], cycle, 5);
     for d in [Delivery::Exact, Delivery::Fast] {
-        let mut r = ring.clone();
-        r.delivery = d;
-        let (mut cfg, hosts, plan) = build(&r);
-        cfg.faults = faults.clone();
-        let mut sim = Simulation::new(cfg, hosts).expect("valid");
-        sim.run_until(us(8 * cycle)).expect("runs");
-        let c = counters(&mut sim, &plan, 4);
+        let (c, collisions) = counted_run(&ring, d, &faults, us(8 * cycle));
         assert_eq!(c.master_nerr, vec![0, 8, 8, 0], "{d:?}");
-        assert_eq!(sim.stats().fast_path_collisions, 0, "{d:?}");
+        assert_eq!(collisions, 0, "{d:?}");
     }
+}
+
+/// `ring` run on `delivery` with `faults` until `until`: every receiver's counters then, and
+/// the fast-path collisions counted.
+fn counted_run(
+    ring: &StaticRing,
+    delivery: Delivery,
+    faults: &[Fault],
+    until: Instant,
+) -> (Counters, u64) {
+    let mut r = ring.clone();
+    r.delivery = delivery;
+    let (mut cfg, hosts, plan) = build(&r);
+    cfg.faults = faults.to_vec();
+    let mut sim = Simulation::new(cfg, hosts).expect("valid");
+    sim.run_until(until).expect("runs");
+    let c = counters(&mut sim, &plan, ring.slaves);
+    (c, sim.stats().fast_path_collisions)
 }
 
 // 410B §1, §4.1 2H.13 FIBBR. Three slaves at 2 Mbit/s on 1925 m fibres, slave 1's AT 12 µs
@@ -1714,12 +1726,25 @@ fn a_burst_held_across_a_break_is_accounted_in_the_cycle_it_hits() {
 #[test]
 fn a_broken_mst_taken_by_a_header_waiting_for_the_mdt_is_counted() {
     let (ring, cycle) = mixed_ring(6, 0, 10, true, 922);
-    let faults = mixed_faults(&[(127, 36, 3486204, 2559372, 2974032219)], cycle, 7);
-    assert!(matches!(
-        faults[0].kind,
-        FaultKind::BitErrors { segment: 1, .. }
-    ));
-    check_mixed(&ring, &faults, cycle);
+    check_found(
+        &ring,
+        cycle,
+        &[(127, 36, 3486204, 2559372, 2974032219)],
+        |k| matches!(k, FaultKind::BitErrors { segment: 1, .. }),
+    );
+}
+
+/// [`check_mixed`] of an input a mixed property test found (`draws` as its strategy drew
+/// them), once `about` says one of its faults is the one the test is about.
+fn check_found(
+    ring: &StaticRing,
+    cycle: u64,
+    draws: &[(u8, usize, u64, u64, u32)],
+    about: fn(&FaultKind) -> bool,
+) {
+    let faults = mixed_faults(draws, cycle, ring.slaves + 1);
+    assert!(faults.iter().any(|f| about(&f.kind)), "{faults:?}");
+    check_mixed(ring, &faults, cycle);
 }
 
 // HDLC; 410B §1, §4.2.1 TCHK, NERR. Three slaves at 2 Mbit/s, MDT after the ATs, ATs moved
@@ -1738,14 +1763,7 @@ fn a_telegram_starting_inside_the_one_before_is_judged_at_its_own_start() {
     assert_eq!(plan.at_trt_us, vec![25, 41, 92]);
     for faults in [Vec::new(), mixed_faults(&[(0, 0, 0, 1, 0)], cycle, 4)] {
         for d in [Delivery::Exact, Delivery::Fast] {
-            let mut r = ring.clone();
-            r.delivery = d;
-            let (mut cfg, hosts, plan) = build(&r);
-            cfg.faults = faults.clone();
-            let mut sim = Simulation::new(cfg, hosts).expect("valid");
-            sim.run_until(us(8 * cycle)).expect("runs");
-            let c = counters(&mut sim, &plan, 3);
-            let collisions = sim.stats().fast_path_collisions;
+            let (c, collisions) = counted_run(&ring, d, &faults, us(8 * cycle));
             // Without a fault the fast path carries AT 1 past slave 2 ahead of its chip and
             // cannot follow the cut there: it says so (`sercon ring` reruns such a ring).
             if d == Delivery::Fast && faults.is_empty() {
@@ -1757,6 +1775,7 @@ fn a_telegram_starting_inside_the_one_before_is_judged_at_its_own_start() {
         }
     }
 }
+
 // 410B §1, §4.1 2H.13 FIBBR. Five slaves at 2 Mbit/s, MDT after the ATs, slave 1 drifting by
 // +684 ppm and slave 2 by −1031 ppm from cycle 4, fibre 2 broken for 16 µs in cycle 5 (a
 // 20 000-case run). Slave 1's AT starts 4.4 ns before an edge of the filler it repeats, after
@@ -1769,20 +1788,14 @@ fn a_telegram_starting_inside_the_one_before_is_judged_at_its_own_start() {
 #[test]
 fn a_filler_split_from_a_telegram_taken_inverted_goes_on_from_its_level() {
     let (ring, cycle) = mixed_ring(5, 2, 10, true, 0);
-    let faults = mixed_faults(
-        &[
-            (54, 26, 175901, 1, 973704334),
-            (14, 2, 1263728, 16000, 0),
-            (166, 5, 10971, 1, 206886392),
-        ],
-        cycle,
-        6,
-    );
-    assert!(matches!(
-        faults[1].kind,
-        FaultKind::FibreBreak { segment: 2, .. }
-    ));
-    check_mixed(&ring, &faults, cycle);
+    let draws = [
+        (54, 26, 175901, 1, 973704334),
+        (14, 2, 1263728, 16000, 0),
+        (166, 5, 10971, 1, 206886392),
+    ];
+    check_found(&ring, cycle, &draws, |k| {
+        matches!(k, FaultKind::FibreBreak { segment: 2, .. })
+    });
 }
 
 // Faults act on the line only, seeded (issue 5 item 4): which bits a period of random errors
