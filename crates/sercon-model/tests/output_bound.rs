@@ -804,3 +804,35 @@ fn a_host_relinking_the_header_the_processor_holds_takes_the_layout_proof() {
     // The processor went on from AT 2 to 37 (its header as read): the third telegram.
     sends_in_the_cycle(&mut m, t0);
 }
+
+// 410B §4.2.1 EN ("Transmit telegram enable": 0 sends nothing; EN is read into NTH with the
+// header and not read again at the start, 410B §4.2.2). A master whose list has a receive
+// header without TCHK and then a transmit header with EN = 0: a bound kept from the walk
+// (which skips disabled transmit headers) was later than a fresh one taken once the receive
+// telegram came and the disabled header was current (its start counted as a possible
+// output): a debug check "kept out_bound" failed (a 1000-case soak of
+// `host_writes_between_steps_keep_the_promise`). A current transmit telegram with EN = 0 now
+// bounds as the walk does, by the next enabled one.
+#[test]
+fn a_current_transmit_header_with_en_0_bounds_as_the_walk_does() {
+    let mut ram = vec![0u16; 64];
+    ram[1] = 61200;
+    ram[7] = 830;
+    ram[27] = 32768;
+    let frames = vec![
+        (277, vec![1, 14, 88, 18, 107, 90, 198, 175]),
+        (
+            254,
+            vec![
+                6, 25, 36, 76, 5, 190, 0, 0, 40, 81, 7, 2, 12, 10, 0, 6, 3, 139, 70, 133, 130, 92,
+                13, 69, 4, 122, 61, 10, 64, 46, 90, 6, 0, 1, 0, 52, 19, 173,
+            ],
+        ),
+        (223, vec![15, 41, 87]),
+        (224, vec![195, 29, 1, 29, 97, 228, 73, 144, 106]),
+    ];
+    let chip = common::arbitrary_chip(&ram, 865, true, None);
+    arbitrary_run_with_writes(chip.clone(), frames.clone(), vec![(223, 6, 0, 396)], false)
+        .expect("plain advances");
+    arbitrary_run_with_writes(chip, frames, vec![(223, 6, 0, 396)], true).expect("kept bounds");
+}
