@@ -146,7 +146,8 @@ impl Node {
     /// A node whose clock starts to drift (its times so far the simulation's): the bits it
     /// received and sent last end at the same instant in both times, and a segment that
     /// follows them at once (their filler, after a telegram under way when the drift began)
-    /// goes on from there ([`follow`]), as the fast path's telegram carrying its filler does.
+    /// goes on from there ([`follow`]; 410B §1, spec-notes "Own clocks"), as the fast path's
+    /// telegram carrying its filler does.
     /// Mapped alone by the clock it started up to the telegram's length × the clock error
     /// apart (a slave 684 ppm fast from the middle of the MST: the master's filler after it
     /// 14 ns late, and slave 1's AT then from the other level on the reference path only).
