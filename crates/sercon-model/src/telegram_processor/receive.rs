@@ -22,11 +22,9 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
         return;
     };
     chip.tp.last_taken = Some(frame.start);
-    if chip.tp.rx_now.is_some() {
-        // A frame starting before the previous ended (the line delivered overlapping
-        // frames): the previous one ends here.
-        frame_end(chip, tick);
-    }
+    // No frame starts while one is in progress: its start waits for that one's end
+    // (`first_frame_tick`, `release_held_starts`).
+    debug_assert!(chip.tp.rx_now.is_none(), "a frame started inside another");
     let start = frame.start;
     let end_tick = chip.clock.tick_at_or_after(frame.end).max(tick);
     // A start held behind the frame before it is judged at its own tick (its window, an
