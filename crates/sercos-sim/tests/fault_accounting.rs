@@ -1840,3 +1840,59 @@ fn bit_errors_do_not_depend_on_the_order_segments_enter_a_fibre() {
         same_runs(&runs[0], r, "bit errors");
     }
 }
+
+// Faults act on the line only (issue 5 item 4): a burst takes the first telegram that enters
+// its fibre at or after its time, in the fibre's time, whichever node sent it first. Five
+// slaves at 16 Mbit/s on 1350 m fibres, slave 1's AT at TRT 10 µs and slave 2's at 5 µs: slave
+// 1 sends first (its MST came 6.9 µs earlier) but its AT enters the fibre into the master 5 µs
+// after slave 2's. A burst there between the MST and slave 2's AT breaks slave 2's AT on both
+// paths, however the run is stepped: on the fast path slave 1's AT waits at slave 2 behind
+// slave 2's own output (`out_floors`), so every fibre gets its segments in time order.
+#[test]
+fn a_burst_takes_the_first_telegram_in_its_fibre_whichever_was_sent_first() {
+    let (mut ring, cycle) = mixed_ring(5, 0, 1350, true, 27);
+    ring.at_trt_override = Some(vec![10, 5, 25, 45, 55]);
+    let faults = [Fault {
+        at: us(5 * cycle + 45),
+        kind: FaultKind::BitErrorBurst {
+            segment: 5,
+            bits: 4,
+        },
+    }];
+    let (t0, t1) = (us(3 * cycle), us(10 * cycle));
+    let runs: Vec<Outcome> = [
+        (Delivery::Exact, 23),
+        (Delivery::Fast, 1),
+        (Delivery::Fast, 23),
+        (Delivery::Fast, 250),
+        (Delivery::Fast, 1750),
+    ]
+    .into_iter()
+    .map(|(d, step)| {
+        let mut r = ring.clone();
+        r.delivery = d;
+        run_case(&r, &faults, t0, t1, Duration::from_micros(step))
+    })
+    .collect();
+    // Slave 1's AT is sent first and enters the master's fibre last (cycle 4, before the
+    // burst).
+    let log = String::from_utf8_lossy(&runs[0].log).into_owned();
+    let at = |seg: u8, adr: u8| {
+        log.lines()
+            .filter(|l| l.starts_with("0.0010"))
+            .find(|l| l.contains(&format!("seg {seg} slave AT adr {adr} ")))
+            .and_then(|l| l.split(' ').next())
+            .and_then(|t| t.parse::<f64>().ok())
+            .expect("AT in cycle 4")
+    };
+    assert!(at(1, 1) < at(2, 2), "slave 1 sends first");
+    assert!(
+        at(5, 2) < at(5, 1),
+        "slave 2's AT enters the master's fibre first"
+    );
+    assert_eq!(runs[0].after.master_nerr, vec![0, 1, 0, 0, 0]);
+    for r in &runs[1..] {
+        assert_eq!(r.collisions, 0);
+        same_runs(&runs[0], r, "burst");
+    }
+}
