@@ -286,6 +286,33 @@ fn wrong_config_names_file_line_column() {
     refused(&["ring", "--config", &f], &format!("{idn}:2:7"));
 }
 
+// 410B §4.1 11H TCYCDEL: the master measures the ring delay in whole µs; the report gives it
+// beside the delay the simulation has (issue 5: fibre delay 5 ns/m, repeater latency per
+// node, spec-notes "Repeater latency"): three 600 m fibres at 8 Mbit/s, 3 × 3 µs, and two
+// drives repeating with 2 bit times each, 0.5 µs: 9.5 µs, read as 9.
+#[test]
+fn the_report_gives_the_ring_delay_measured_and_simulated() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let f = dir.path().join("long.toml");
+    std::fs::write(
+        &f,
+        "baud = 8\nreturn_fibre_m = 600\n[[drive]]\naddress = 1\nfibre_m = 600\n\
+         [[drive]]\naddress = 2\nfibre_m = 600\n",
+    )
+    .expect("write");
+    let f = f.display().to_string();
+    let r = json(&["ring", "--config", &f, "--seconds", "0.1"]);
+    assert_eq!(r["result"], "phase4");
+    assert_eq!(r["ring_delay_ns"], 9500);
+    assert_eq!(r["ring_delay_us"], 9);
+    let o = sercon(&["ring", "--config", &f, "--seconds", "0.1"]);
+    assert!(
+        stdout(&o).contains("ring delay 9 µs (TCYCDEL; fibres and repeaters 9.500 µs)"),
+        "{}",
+        stdout(&o)
+    );
+}
+
 #[test]
 fn example_config_runs() {
     let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/ring.toml");

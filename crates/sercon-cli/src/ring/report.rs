@@ -170,6 +170,10 @@ pub struct RingReport {
     pub restarts: u32,
     /// Ring delay the master measured, µs (TCYCDEL, 410B §4.1 11H).
     pub ring_delay_us: u16,
+    /// The ring's delay as simulated, ns: every fibre plus every drive's repeater latency,
+    /// from the master's transmitter back to its receiver (what TCYCDEL measures in whole
+    /// µs, so a short ring reads 0).
+    pub ring_delay_ns: u64,
     /// The master's phase timeline.
     pub timeline: Vec<MasterEvent>,
     /// What happened to the ring, in time order.
@@ -274,13 +278,14 @@ impl RingReport {
         }
         writeln!(
             s,
-            "\nmaster: phase {} ({}), {} cycles, {} service requests, {} restarts, ring delay {} µs",
+            "\nmaster: phase {} ({}), {} cycles, {} service requests, {} restarts, ring delay {} µs (TCYCDEL; fibres and repeaters {:.3} µs)",
             self.final_phase,
             self.final_progress,
             self.cycles,
             self.service_requests,
             self.restarts,
-            self.ring_delay_us
+            self.ring_delay_us,
+            self.ring_delay_ns as f64 / 1000.0
         )?;
         match (&self.result, self.phase4_at_s) {
             (RunResult::Phase4, Some(t)) => writeln!(

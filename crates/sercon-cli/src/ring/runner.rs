@@ -491,6 +491,10 @@ fn gather(
         service_requests: status.service_requests,
         restarts: status.restarts,
         ring_delay_us: m.master.ring_delay_us(),
+        ring_delay_ns: ring
+            .sim
+            .ring_delay(0, 0, spec.bit_rate.bit_time())
+            .map_or(0, |d| d.as_picos() / 1000),
         timeline: m
             .timeline
             .iter()
