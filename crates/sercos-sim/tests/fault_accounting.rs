@@ -1896,3 +1896,47 @@ fn a_burst_takes_the_first_telegram_in_its_fibre_whichever_was_sent_first() {
         same_runs(&runs[0], r, "burst");
     }
 }
+
+// 410B §4.2.1 TCHK, NERR; HDLC. Five slaves at 4 Mbit/s, ATs moved by −18 and −25 µs (slave
+// 3's AT 5 µs after slave 2's, which it cuts; slave 4's cutting slave 3's inside its closing
+// flag), bit errors on the fibre into slave 5 (a 3000-case run of the mixed property test):
+// in cycle 7 an error leaves AT 3's closing flag one 1 short, so that only AT 4's bits, which
+// cut it there, close it, 16 µs after it began. The master's window for AT 3 closed in
+// between: a chip brought past the close before AT 4 reached it counted AT 3 missing (the
+// reference path, NERR 2), one handed AT 4 first received it (the fast path, NERR 1). The
+// window now waits for a frame still being decoded that began in it
+// (`telegram_processor::decoding_in_window`): AT 3 is received on both paths, however the
+// run is stepped.
+#[test]
+fn a_window_waits_for_a_telegram_whose_end_the_next_bits_decide() {
+    let (mut ring, cycle) = mixed_ring(5, 1, 10, false, 191);
+    shift_ats(&mut ring, cycle, &[0, 0, -18, -25, 0]);
+    let (_, _, plan) = build(&ring);
+    assert_eq!(plan.at_trt_us, vec![66, 89, 94, 110, 158]);
+    let faults = mixed_faults(&[(64, 16, 1252068, 2010596, 80691364)], cycle, 6);
+    assert!(matches!(
+        faults.first().map(|f| f.kind),
+        Some(FaultKind::BitErrors { segment: 4, .. })
+    ));
+    let cy = |c: u64| us(c * cycle);
+    let runs: Vec<Outcome> = [
+        (Delivery::Exact, 23),
+        (Delivery::Exact, 1),
+        (Delivery::Fast, 23),
+        (Delivery::Fast, 1),
+        (Delivery::Fast, 3500),
+    ]
+    .into_iter()
+    .map(|(d, step)| {
+        let mut r = ring.clone();
+        r.delivery = d;
+        run_case(&r, &faults, cy(3), cy(10), Duration::from_micros(step))
+    })
+    .collect();
+    // AT 2 is cut by AT 3 every cycle; AT 1 broken once, AT 3 once (cycle 6), not in cycle 7.
+    assert_eq!(runs[0].after.master_nerr, vec![1, 10, 1, 0, 0]);
+    for r in &runs[1..] {
+        assert_eq!(r.collisions, 0);
+        same_runs(&runs[0], r, "a frame decoded across a window's close");
+    }
+}

@@ -366,3 +366,41 @@ fn bits_views() {
     assert!(b.slice(5, 13).is_none());
     assert_eq!(b.get(12), None);
 }
+
+// ERRATA, Telegrams (HDLC framing): a frame is open from its opening flag to its closing flag
+// or an abort; the decoder says where an open frame with data began, so that a receiver can
+// tell a telegram whose end is still to come from the pause between telegrams.
+#[test]
+fn a_frame_in_progress_is_known_from_its_first_data_bit_to_its_end() {
+    let mut line = BitVec::new();
+    Encoder::new(NRZ_PLAIN)
+        .encode(&[0x01, 0x42, 0x43], &mut line)
+        .unwrap();
+    let n = line.len() as usize;
+    let mut d = Decoder::new(NRZ_PLAIN);
+    assert_eq!(d.frame_in_progress(), None);
+    // The opening flag alone: no data yet.
+    d.push(line.bits().slice(0, 8).unwrap(), |_| {});
+    assert!(d.in_frame());
+    assert_eq!(d.frame_in_progress(), None);
+    // Data, but not the closing flag's last bit.
+    let mut got = Vec::new();
+    d.push(line.bits().slice(8, n - 1).unwrap(), |f| {
+        got.push(f.fcs_ok())
+    });
+    assert!(got.is_empty());
+    assert_eq!(d.frame_in_progress(), Some(0));
+    // The last bit closes it: the flag may open the next frame, which has no data yet.
+    d.push(line.bits().slice(n - 1, n).unwrap(), |f| {
+        got.push(f.fcs_ok())
+    });
+    assert_eq!(got, vec![true]);
+    assert_eq!(d.frame_in_progress(), None);
+    // An abort (seven 1s) ends a frame in progress as well.
+    let mut d = Decoder::new(NRZ_PLAIN);
+    d.push(line.bits().slice(0, 20).unwrap(), |_| {});
+    assert_eq!(d.frame_in_progress(), Some(0));
+    let ones = data_to_line(&[true; 8], NRZ_PLAIN);
+    d.push(ones.bits(), |_| {});
+    assert_eq!(d.frame_in_progress(), None);
+}
