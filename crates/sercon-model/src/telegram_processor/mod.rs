@@ -490,7 +490,9 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
             // The window opens at this tick (after the events above of the same tick, which
             // may have moved on to another header).
             let _ = announce_opened(chip, tick);
-            if close == Some(tick) && window_waits(chip, at, tick) {
+            if close == Some(tick)
+                && (held_in_window(chip, tick) || decoding_in_window(chip, at, tick))
+            {
                 return;
             }
             if close == Some(tick) {
@@ -506,22 +508,13 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
     }
 }
 
-/// At the close of the current receive window of the header at `at` (tick `close`), whether
-/// it waits: for a frame that started in it and waits for the frame in progress to end
-/// (`first_frame_tick`, [`held_in_window`]), or for a frame still being decoded
-/// ([`decoding_in_window`]). 410B §4.2.1 TCHK: a telegram that started in its window is not
-/// missing.
+/// At the close of the current receive window (tick `close`), whether a frame that started in
+/// it waits for the frame in progress to end (`first_frame_tick`): then the window closes at
+/// that end instead, after the held start, which is judged against the window at its own tick
+/// (`receive::frame_start`; 410B §4.2.1 TCHK: a telegram that started in its window is not
+/// missing; spec-notes "A frame starts once the frame in progress has ended").
 #[cold]
 #[inline(never)]
-fn window_waits(chip: &mut Chip, at: u16, close: u64) -> bool {
-    held_in_window(chip, close) || decoding_in_window(chip, at, close)
-}
-
-/// At the close of the current receive window (tick `close`), whether a frame that started in
-/// it waits for the frame in progress to end ([`window_waits`]): then the window closes at
-/// that end instead, after the held start, which is judged against the window at its own tick
-/// (`receive::frame_start`; spec-notes "A frame starts once the frame in progress has
-/// ended").
 fn held_in_window(chip: &mut Chip, close: u64) -> bool {
     let Some(end) = chip.tp.rx_now.as_ref().map(|r| r.end_tick) else {
         return false;
@@ -550,6 +543,8 @@ fn held_in_window(chip: &mut Chip, close: u64) -> bool {
 /// Closing at once made the chip's count depend on whether it was brought past the close
 /// before the line after those bits reached it (the master's NERR apart on the simulator's
 /// two paths).
+#[cold]
+#[inline(never)]
 fn decoding_in_window(chip: &mut Chip, at: u16, close: u64) -> bool {
     let Some((start, bits_end, bit_time)) = chip.serial.frame_in_progress() else {
         return false;

@@ -96,10 +96,11 @@ fn accept(chip: &mut Chip, tick: u64, at_tick: u64, bytes: &[u8]) -> RxRole {
     // 410B §4.2.1 TCHK: "The time of receiving is checked": outside the window the frame
     // is not this telegram. A window that waited for a frame still being decoded is judged
     // by its own close (`decoding_in_window`).
-    if at_tick < open
-        || close.is_some_and(|c| at_tick > c)
-        || chip.tp.window_close.is_some() && after_own_close(chip, at, at_tick)
-    {
+    let close = match (chip.tp.window_close, chip.tp.block.as_ref()) {
+        (Some((a, r, own)), Some(b)) if a == at && r == b.ref_tick => Some(own),
+        _ => close,
+    };
+    if at_tick < open || close.is_some_and(|c| at_tick > c) {
         return RxRole::Ignored;
     }
     let adr = bytes.first().copied().unwrap_or(0);
@@ -124,22 +125,6 @@ fn accept(chip: &mut Chip, tick: u64, at_tick: u64, bytes: &[u8]) -> RxRole {
     // The next header is read at the start of this telegram (816 §2.10.1.2, Figure 6).
     advance(chip, tick, hdr.pt);
     RxRole::Telegram { at, hdr: h }
-}
-
-/// Whether a frame starting at tick `at_tick` comes after the own close of the window of the
-/// header at `at` that waited for a frame still being decoded (`decoding_in_window`); a
-/// record of another header or block is dropped.
-#[cold]
-#[inline(never)]
-fn after_own_close(chip: &mut Chip, at: u16, at_tick: u64) -> bool {
-    let ref_tick = chip.tp.block.as_ref().map(|b| b.ref_tick);
-    match chip.tp.window_close {
-        Some((a, r, own)) if a == at && Some(r) == ref_tick => at_tick > own,
-        _ => {
-            chip.tp.window_close = None;
-            false
-        }
-    }
 }
 
 fn write_word0(chip: &mut Chip, at: u16, h: &RxHeader) {
