@@ -255,14 +255,6 @@ impl SerialPort {
         !short && self.rx.has_retracted()
     }
 
-    /// [`receiver::Receiver::frame_in_progress`]: a frame whose end the line still to come
-    /// decides (its start, the end of the bits decoded, their bit time).
-    #[cold]
-    #[inline(never)]
-    pub(crate) fn frame_in_progress(&self) -> Option<(Instant, Instant, Duration)> {
-        self.rx.frame_in_progress()
-    }
-
     /// The starts of the frames the last [`SerialPort::line_input`] took back (when it
     /// returned `true`), in order; the receive log has forgotten them.
     #[cold]

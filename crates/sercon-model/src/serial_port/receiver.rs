@@ -644,21 +644,6 @@ impl Receiver {
         }
     }
 
-    /// The frame being decoded from the bits received so far, whose end the line still to
-    /// come decides (a telegram broken by a fault, or taken up at a cut, whose closing flag
-    /// is not whole at the end of the last segment): the first bit of its opening flag, the
-    /// end of the bits decoded and their bit time. A hinted telegram is reported whole when
-    /// it comes and leaves none.
-    pub(crate) fn frame_in_progress(&self) -> Option<(Instant, Instant, Duration)> {
-        let run = self.running.as_deref()?;
-        let pos = run.decoder.frame_in_progress()?;
-        Some((
-            run.base.saturating_add(run.bit_time.saturating_mul(pos)),
-            run.next_start,
-            run.bit_time,
-        ))
-    }
-
     /// The starts of the frames the last input took back (in order), each with whether
     /// that input reported a frame of the same start that replaces it (the frame the line
     /// showed for the telegram it cut, [`Receiver::resume_cut`]; not yet reported while

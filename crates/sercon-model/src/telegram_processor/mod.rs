@@ -159,10 +159,6 @@ pub(crate) struct TelegramProcessor {
     /// (`receive::release_held_starts`): its start instant and the tick of that start, at
     /// which its receive window (410B §4.2.1 TCHK) and an MST's timing are judged.
     pub(crate) held_start: Option<(Instant, u64)>,
-    /// A receive window that waits for a frame still being decoded
-    /// ([`decoding_in_window`]): the header's address, its block's reference tick and the
-    /// window's own close, against which the frame is judged (410B §4.2.1 TCHK).
-    pub(crate) window_close: Option<(u16, u64, u64)>,
     /// Frames that replace a queued frame of the same start the receiver took back
     /// ([`take_back_frame`]): the queued one decides at its start, as a chip that had
     /// taken it would have; the replacement gives its end.
@@ -490,9 +486,7 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
             // The window opens at this tick (after the events above of the same tick, which
             // may have moved on to another header).
             let _ = announce_opened(chip, tick);
-            if close == Some(tick)
-                && (held_in_window(chip, tick) || decoding_in_window(chip, at, tick))
-            {
+            if close == Some(tick) && held_in_window(chip, tick) {
                 return;
             }
             if close == Some(tick) {
@@ -531,52 +525,6 @@ fn held_in_window(chip: &mut Chip, close: u64) -> bool {
     }
     true
 }
-
-/// At the close of the receive window of the header at `at` (tick `close`), whether the
-/// receiver is still decoding a frame that started in it, whose end the line still to come
-/// decides (`SerialPort::frame_in_progress`: a telegram broken by a fault, or taken up at a
-/// cut, whose closing flag is not whole at the end of the bits received): then the window
-/// waits until that line has come, at most until a steady line after those bits would have
-/// ended the frame (seven 1s, an abort: 8 bit times; HDLC), and the frame, once reported, is
-/// judged against the window at its own start (410B §4.2.1 TCHK: a telegram that started in
-/// its window is not missing; spec-notes "A window waits for a frame still being decoded").
-/// Closing at once made the chip's count depend on whether it was brought past the close
-/// before the line after those bits reached it (the master's NERR apart on the simulator's
-/// two paths).
-#[cold]
-#[inline(never)]
-fn decoding_in_window(chip: &mut Chip, at: u16, close: u64) -> bool {
-    let Some((start, bits_end, bit_time)) = chip.serial.frame_in_progress() else {
-        return false;
-    };
-    let Some(Block {
-        ref_tick,
-        cur: Some(Cur::Rx { open, close: c, .. }),
-        ..
-    }) = chip.tp.block.as_mut()
-    else {
-        return false;
-    };
-    // Judged against the window's own close, also when it waited before.
-    let own = match chip.tp.window_close {
-        Some((a, r, own)) if a == at && r == *ref_tick => own,
-        _ => close,
-    };
-    let begun = chip.clock.tick_at_or_after(start);
-    let until = chip
-        .clock
-        .tick_at_or_after(bits_end.saturating_add(bit_time.saturating_mul(FLAG_BIT_TIMES)));
-    if begun < *open || begun > own || until <= close {
-        return false;
-    }
-    *c = Some(until);
-    chip.tp.window_close = Some((at, *ref_tick, own));
-    true
-}
-
-/// Bit times from the end of a frame's bits until a steady line would have ended it: seven
-/// 1s abort a frame (HDLC; ERRATA "Telegrams"), found at the seventh, the eighth bit time.
-const FLAG_BIT_TIMES: u64 = 8;
 
 /// Applies, in their order, the events due at or before `tick` that were no events of
 /// their own because no enabled interrupt output carries their flag

@@ -94,12 +94,7 @@ fn accept(chip: &mut Chip, tick: u64, at_tick: u64, bytes: &[u8]) -> RxRole {
         return RxRole::Ignored;
     };
     // 410B §4.2.1 TCHK: "The time of receiving is checked": outside the window the frame
-    // is not this telegram. A window that waited for a frame still being decoded is judged
-    // by its own close (`decoding_in_window`).
-    let close = match (chip.tp.window_close, chip.tp.block.as_ref()) {
-        (Some((a, r, own)), Some(b)) if a == at && r == b.ref_tick => Some(own),
-        _ => close,
-    };
+    // is not this telegram.
     if at_tick < open || close.is_some_and(|c| at_tick > c) {
         return RxRole::Ignored;
     }

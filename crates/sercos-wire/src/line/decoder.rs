@@ -190,13 +190,6 @@ impl Decoder {
         self.open
     }
 
-    /// The first bit of the opening flag of the frame being received, once it has a data
-    /// bit (an opening flag and data, no closing flag or abort yet): a telegram whose end the
-    /// bits still to come decide. `None` between frames and right after a flag.
-    pub fn frame_in_progress(&self) -> Option<u64> {
-        (self.open && self.len > 0).then_some(self.start)
-    }
-
     /// How many stretches between a closing flag and the next flag were dropped as noise.
     pub fn ignored(&self) -> u64 {
         self.ignored
