@@ -366,3 +366,44 @@ fn bits_views() {
     assert!(b.slice(5, 13).is_none());
     assert_eq!(b.get(12), None);
 }
+
+// ERRATA, Telegrams (HDLC framing): a frame is open from its opening flag to its closing flag
+// or an abort; the decoder tells where an open frame with data began and its bytes so far, so
+// that a receiver can take a telegram's start (its address) before its end has come.
+#[test]
+fn a_frame_in_progress_is_known_from_its_first_data_bit_to_its_end() {
+    let mut line = BitVec::new();
+    Encoder::new(NRZ_PLAIN)
+        .encode(&[0x01, 0x42, 0x43], &mut line)
+        .unwrap();
+    let n = line.len() as usize;
+    let mut d = Decoder::new(NRZ_PLAIN);
+    assert_eq!(d.frame_in_progress(), None);
+    // The opening flag alone: no data yet.
+    d.push(line.bits().slice(0, 8).unwrap(), |_| {});
+    assert!(d.in_frame());
+    assert_eq!(d.frame_in_progress(), None);
+    // The address and a bit more: its start and the address.
+    d.push(line.bits().slice(8, 18).unwrap(), |_| {});
+    assert_eq!(d.frame_in_progress(), Some((0, &[0x01][..])));
+    // Everything but the closing flag's last bit: data and FCS bytes, no frame yet.
+    let mut got = Vec::new();
+    d.push(line.bits().slice(18, n - 1).unwrap(), |f| {
+        got.push(f.fcs_ok())
+    });
+    assert!(got.is_empty());
+    let (start, bytes) = d.frame_in_progress().unwrap();
+    assert_eq!((start, &bytes[..3]), (0, &[0x01, 0x42, 0x43][..]));
+    // The last bit closes it: the flag may open the next frame, which has no data yet.
+    d.push(line.bits().slice(n - 1, n).unwrap(), |f| {
+        got.push(f.fcs_ok())
+    });
+    assert_eq!(got, vec![true]);
+    assert_eq!(d.frame_in_progress(), None);
+    // An abort (seven 1s) ends a frame in progress as well.
+    let mut d = Decoder::new(NRZ_PLAIN);
+    d.push(line.bits().slice(0, 20).unwrap(), |_| {});
+    assert!(d.frame_in_progress().is_some());
+    d.push(data_to_line(&[true; 8], NRZ_PLAIN).bits(), |_| {});
+    assert_eq!(d.frame_in_progress(), None);
+}

@@ -44,7 +44,16 @@ impl Chip {
             &mut self.tp,
             &self.out_bound,
         );
+        let at = seg.start;
+        let mut early_report = false;
         let retracted = self.serial.line_input(seg, |f| {
+            if tp.early == Some(f.start) {
+                // The report of a frame taken early gives it its end.
+                let tick = clock.tick_at_or_after(f.start);
+                early_report |=
+                    crate::telegram_processor::early_start::take_report(tp, clock, tick, f);
+                return;
+            }
             if crate::telegram_processor::frame_is_mst(&f.bytes) {
                 // A slave's block starts with the MST it receives (410B §4.2.1 TRT):
                 // the output bound is found afresh.
@@ -71,6 +80,20 @@ impl Chip {
             for start in self.serial.take_retracted() {
                 crate::telegram_processor::take_back_frame(self, start);
             }
+            quiet = false;
+        }
+        // A frame the receiver is still decoding is taken at its start before its end has
+        // come (`telegram_processor::early_start`): only while a decoder runs (bits a fault
+        // touched, a cut) or one was taken so.
+        if (self.tp.early.is_some() || self.serial.decoding())
+            && crate::telegram_processor::early_start::follow(self, at)
+        {
+            quiet = false;
+        }
+        if early_report {
+            self.tp_next = None;
+            self.next_core = None;
+            self.out_bound.set(None);
             quiet = false;
         }
         // The engine's pin levels (INT0/1, CONCLK, DIVCLK, WDOGN) do not depend on the

@@ -255,6 +255,19 @@ impl SerialPort {
         !short && self.rx.has_retracted()
     }
 
+    /// Whether the receiver decodes bits ([`receiver::Receiver::decoding`]).
+    #[inline]
+    pub(crate) fn decoding(&self) -> bool {
+        self.rx.decoding()
+    }
+
+    /// The frame the receiver has in progress at the end of the bits received
+    /// ([`receiver::Receiver::frame_in_progress`]): its start, its bytes so far, the end of
+    /// the bits decoded and their bit time.
+    pub(crate) fn frame_in_progress(&self) -> Option<(Instant, &[u8], Instant, Duration)> {
+        self.rx.frame_in_progress()
+    }
+
     /// The starts of the frames the last [`SerialPort::line_input`] took back (when it
     /// returned `true`), in order; the receive log has forgotten them.
     #[cold]

@@ -644,6 +644,29 @@ impl Receiver {
         }
     }
 
+    /// Whether a decoder runs over the bits received (bits a fault touched, a cut telegram
+    /// taken up, a rate mismatch): only then can a frame be in progress at the end of them
+    /// ([`Receiver::frame_in_progress`]). A hinted telegram is reported whole when it comes.
+    #[inline]
+    pub(crate) fn decoding(&self) -> bool {
+        self.running.is_some()
+    }
+
+    /// The frame being decoded from the bits received so far, whose end the line still to
+    /// come decides (a telegram whose closing flag a fault broke, or one taken up at a cut):
+    /// the first bit of its opening flag, its whole bytes so far (ADR first), the end of the
+    /// bits decoded and their bit time.
+    pub(crate) fn frame_in_progress(&self) -> Option<(Instant, &[u8], Instant, Duration)> {
+        let run = self.running.as_deref()?;
+        let (pos, bytes) = run.decoder.frame_in_progress()?;
+        Some((
+            run.base.saturating_add(run.bit_time.saturating_mul(pos)),
+            bytes,
+            run.next_start,
+            run.bit_time,
+        ))
+    }
+
     /// The starts of the frames the last input took back (in order), each with whether
     /// that input reported a frame of the same start that replaces it (the frame the line
     /// showed for the telegram it cut, [`Receiver::resume_cut`]; not yet reported while

@@ -12,6 +12,7 @@
 //! Readings where the documents are silent: `docs/spec-notes.md`, "Telegram processor
 //! and MST".
 
+pub(crate) mod early_start;
 mod fifo;
 mod host;
 mod layout;
@@ -159,6 +160,12 @@ pub(crate) struct TelegramProcessor {
     /// (`receive::release_held_starts`): its start instant and the tick of that start, at
     /// which its receive window (410B §4.2.1 TCHK) and an MST's timing are judged.
     pub(crate) held_start: Option<(Instant, u64)>,
+    /// The start of a frame queued before its end had come (`early_start`): the receiver
+    /// was still decoding it at the end of the bits received.
+    pub(crate) early: Option<Instant>,
+    /// The end given to the frame taken early while queued or in progress (`early_start`):
+    /// where a steady line after the bits received would abort it.
+    pub(crate) early_end: Option<Instant>,
     /// Frames that replace a queued frame of the same start the receiver took back
     /// ([`take_back_frame`]): the queued one decides at its start, as a chip that had
     /// taken it would have; the replacement gives its end.
@@ -311,6 +318,7 @@ impl TelegramProcessor {
     /// Queues a frame the receiver saw (contract with `serial_port`): processed at its
     /// start and end.
     /// `start_tick` is the first MCLK tick at or after the frame's start.
+    #[inline(always)]
     pub(crate) fn on_rx_frame(&mut self, start_tick: u64, frame: HeardFrame) {
         // Keep the queue ordered by start; frames normally arrive in order.
         if self

@@ -190,6 +190,17 @@ impl Decoder {
         self.open
     }
 
+    /// The frame being received, once it has data (an opening flag and data bits, no closing
+    /// flag or abort yet): the first bit of its opening flag and its whole bytes so far (ADR
+    /// first; the FCS is not told from data before the closing flag). A telegram whose end the
+    /// bits still to come decide. `None` between frames and right after a flag.
+    pub fn frame_in_progress(&self) -> Option<(u64, &[u8])> {
+        if !self.open || self.len == 0 {
+            return None;
+        }
+        Some((self.start, self.buf.get(..self.flushed).unwrap_or(&[])))
+    }
+
     /// How many stretches between a closing flag and the next flag were dropped as noise.
     pub fn ignored(&self) -> u64 {
         self.ignored

@@ -1,0 +1,186 @@
+//! Telegrams taken at their start before their end has come (HDLC; 410B §4.2.1 TCHK, ACHK;
+//! 816 §2.10.1.2; spec-notes "A telegram's start is taken before its end has come").
+//!
+//! The receiver reports a frame whole, once its closing flag or an abort has come
+//! (`serial_port::receiver`). A telegram whose bits a fault touched, or one taken up at a
+//! cut, may still be open at the end of the bits received, its end decided by the line still
+//! to come. The real chip has it in progress from its opening flag on and takes its start
+//! once its address is in: it judges it against the receive window then and reads the next
+//! header (816 §2.10.1.2). Decided only when the frame was reported, the start depended on
+//! whether the chip had been brought past the window's close before that line reached it.
+//!
+//! So such a frame is queued at once with what is known of it (its start, its bytes so far),
+//! ending in error where a steady line after the bits received would abort it; the telegram
+//! processor takes its start at its own tick as any other. Its report, when it comes, gives
+//! its end ([`take_report`]); more bits that leave it open move its end on; a frame the
+//! receiver stops decoding without a report (the line went on with filler, dark or bits after
+//! a gap) ends in error where that line began ([`follow`]).
+
+use sercos_wire::time::Instant;
+
+use super::TelegramProcessor;
+use crate::chip::Chip;
+use crate::mclk::MclkClock;
+use crate::serial_port::{HeardFrame, Shared};
+
+/// ADR of the MST (410B §4.2): an MST's role is decided from its length (ADR 255 and one
+/// byte, ERRATA "Telegrams"), which only its end tells, so it is never taken early.
+const MST_ADR: u8 = 255;
+
+/// The receiver reported `f`, a frame the processor took early (`tp.early`): it gives that
+/// frame its end. Queued still, the report takes its place; in progress, the frame ends as
+/// the report ends; decided already (not for this chip), the report is dropped. Returns
+/// whether the processor's next tick may have moved (its memos are then stale).
+#[cold]
+#[inline(never)]
+pub(crate) fn take_report(
+    tp: &mut TelegramProcessor,
+    clock: &MclkClock,
+    tick: u64,
+    f: HeardFrame,
+) -> bool {
+    tp.early = None;
+    let early_end = tp.early_end.take();
+    if let Some(slot) = tp
+        .rx_queue
+        .iter_mut()
+        .find(|(_, q)| q.start == f.start && Some(q.end) == early_end)
+    {
+        *slot = (tick, f);
+        return false;
+    }
+    if tp.last_taken == Some(f.start)
+        && let Some(now) = tp.rx_now.as_mut()
+    {
+        let end_tick = clock.tick_at_or_after(f.end).max(tick);
+        now.end_as(f, end_tick);
+        return true;
+    }
+    if tp.rx_queue.iter().any(|(_, q)| q.start == f.start) {
+        // An earlier report of that start queued (taken back at a cut, `take_back_frame`):
+        // it decides at its start, this one gives its end.
+        tp.replacing.retain(|r| r.start != f.start);
+        tp.replacing.push(f);
+    }
+    false
+}
+
+/// After a line input that started at `at`: the frame the receiver has in progress at the
+/// end of the bits received is queued early, ending in error where a steady line after those
+/// bits would abort it ([`ABORT_BIT_TIMES`]) unless more bits come first; one taken early
+/// before that the receiver still decodes gets that end anew; one it no longer has (and did
+/// not report) is dropped if not taken, or ends in error at `at`. Returns whether the
+/// processor's queue or frame in progress changed.
+#[cold]
+#[inline(never)]
+pub(crate) fn follow(chip: &mut Chip, at: Instant) -> bool {
+    let pending = chip
+        .serial
+        .frame_in_progress()
+        .filter(|(_, bytes, _, _)| bytes.first().is_some_and(|adr| *adr != MST_ADR))
+        .map(|(start, bytes, bits_end, bit_time)| {
+            let end = bits_end.saturating_add(bit_time.saturating_mul(ABORT_BIT_TIMES));
+            (start, Shared::<[u8]>::from(bytes), end)
+        });
+    let mut changed = false;
+    match (chip.tp.early, pending) {
+        (None, None) => {}
+        (Some(s), Some((start, _, end))) if s == start => {
+            // Still being decoded: it ends no earlier than the bits now received allow.
+            changed = set_end(chip, start, end);
+        }
+        (early, pending) => {
+            if let Some(s) = early {
+                chip.tp.early = None;
+                drop_early(chip, s, at);
+                changed = true;
+            }
+            if let Some((start, bytes, end)) = pending {
+                chip.tp.early = Some(start);
+                // A start taken or queued already (a frame reported before and taken back at
+                // a cut): its end comes with its report, or in error when the receiver drops
+                // it.
+                if chip.tp.last_taken.is_none_or(|t| t < start)
+                    && !chip.tp.rx_queue.iter().any(|(_, f)| f.start == start)
+                {
+                    let tick = chip.clock.tick_at_or_after(start);
+                    let frame = HeardFrame {
+                        start,
+                        end,
+                        bytes,
+                        fcs_ok: false,
+                    };
+                    chip.tp.on_rx_frame(tick, frame);
+                    chip.tp.early_end = Some(end);
+                }
+                changed = true;
+            }
+        }
+    }
+    if changed {
+        // The processor's next tick and the output bound counted the queue as it was.
+        chip.tp_next = None;
+        chip.next_core = None;
+        chip.out_bound.set(None);
+    }
+    changed
+}
+
+/// Bit times after the last bit received by which a steady line ends a frame in progress:
+/// the seventh 1 aborts it (HDLC; ERRATA "Telegrams"), found with the eighth bit time.
+const ABORT_BIT_TIMES: u64 = 8;
+
+/// The frame taken early at `start`, still being decoded, ends at `end` now (later than
+/// before: more bits came). Returns whether anything changed.
+fn set_end(chip: &mut Chip, start: Instant, end: Instant) -> bool {
+    if chip.tp.early_end == Some(end) {
+        return false;
+    }
+    chip.tp.early_end = Some(end);
+    if let Some((_, f)) = chip
+        .tp
+        .rx_queue
+        .iter_mut()
+        .find(|(_, f)| f.start == start && !f.fcs_ok)
+    {
+        f.end = end;
+        return true;
+    }
+    if chip.tp.last_taken == Some(start)
+        && let Some(now) = chip.tp.rx_now.as_mut()
+    {
+        now.end_tick = chip.clock.tick_at_or_after(end);
+        return true;
+    }
+    false
+}
+
+/// The frame queued early at `start` that the receiver stopped decoding without a report
+/// ends in error at `at`, where the line that ended it began (no later than the end it had),
+/// whether the chip has taken its start or not: a chip that had not reached it takes it as
+/// one that had (its start was known when it was queued). A line cut before its start never
+/// had it.
+fn drop_early(chip: &mut Chip, start: Instant, at: Instant) {
+    let early_end = chip.tp.early_end.take();
+    let q = &mut chip.tp.rx_queue;
+    if let Some(i) = q
+        .iter()
+        .position(|(_, f)| f.start == start && Some(f.end) == early_end)
+    {
+        // Cut before it began (a cut is handed over before the chip reaches it): the line
+        // never had it.
+        if at <= start {
+            q.remove(i);
+        } else if let Some((_, f)) = q.get_mut(i) {
+            f.end = f.end.min(at);
+        }
+        return;
+    }
+    if chip.tp.last_taken == Some(start)
+        && let Some(now) = chip.tp.rx_now.as_mut()
+    {
+        let end_tick = chip.clock.tick_at_or_after(at);
+        now.end_tick = end_tick.min(now.end_tick);
+        now.fcs_ok = false;
+    }
+}
