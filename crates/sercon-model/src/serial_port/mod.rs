@@ -262,9 +262,9 @@ impl SerialPort {
     }
 
     /// The frame the receiver has in progress at the end of the bits received
-    /// ([`receiver::Receiver::frame_in_progress`]): its start, its bytes so far, the end of
-    /// the bits decoded and their bit time.
-    pub(crate) fn frame_in_progress(&self) -> Option<(Instant, &[u8], Instant, Duration)> {
+    /// ([`receiver::Receiver::frame_in_progress`]): its start, its bytes so far and where it
+    /// ends unless more bits come first.
+    pub(crate) fn frame_in_progress(&self) -> Option<(Instant, &[u8], Instant)> {
         self.rx.frame_in_progress()
     }
 

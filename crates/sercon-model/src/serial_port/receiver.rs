@@ -17,6 +17,10 @@ use crate::serial_settings::RxdCoding;
 /// Line bits of a flag (the opening flag is complete 8 bits after its first bit).
 const FLAG_BITS: u64 = 8;
 
+/// Bit times after the last bit received by which a steady line ends a frame in progress:
+/// the seventh 1 aborts it (HDLC; ERRATA "Telegrams"), found with the eighth bit time.
+const ABORT_BIT_TIMES: u64 = 8;
+
 /// A decoder that continues over contiguous bit segments.
 #[derive(Debug, Clone)]
 struct Running {
@@ -645,25 +649,42 @@ impl Receiver {
     }
 
     /// Whether a decoder runs over the bits received (bits a fault touched, a cut telegram
-    /// taken up, a rate mismatch): only then can a frame be in progress at the end of them
-    /// ([`Receiver::frame_in_progress`]). A hinted telegram is reported whole when it comes.
+    /// taken up, a rate mismatch), or ran until the implied filler after them: only then can
+    /// a frame be in progress at the end of them ([`Receiver::frame_in_progress`]). A hinted
+    /// telegram is reported whole when it comes.
     #[inline]
     pub(crate) fn decoding(&self) -> bool {
-        self.running.is_some()
+        self.running.is_some() || self.implied.as_ref().is_some_and(|u| u.running.is_some())
     }
 
     /// The frame being decoded from the bits received so far, whose end the line still to
     /// come decides (a telegram whose closing flag a fault broke, or one taken up at a cut):
-    /// the first bit of its opening flag, its whole bytes so far (ADR first), the end of the
-    /// bits decoded and their bit time.
-    pub(crate) fn frame_in_progress(&self) -> Option<(Instant, &[u8], Instant, Duration)> {
-        let run = self.running.as_deref()?;
+    /// the first bit of its opening flag, its whole bytes so far (ADR first) and where it
+    /// ends unless more bits come first: a steady line after the bits aborts it with the
+    /// seventh 1 ([`ABORT_BIT_TIMES`] after them; HDLC), an implied filler after them ends
+    /// the decoding where it starts (as an explicit filler segment does).
+    pub(crate) fn frame_in_progress(&self) -> Option<(Instant, &[u8], Instant)> {
+        let (run, end) = match (self.running.as_deref(), &self.implied) {
+            (Some(run), _) => (
+                run,
+                run.next_start
+                    .saturating_add(run.bit_time.saturating_mul(ABORT_BIT_TIMES)),
+            ),
+            (
+                None,
+                Some(ImpliedFiller {
+                    at,
+                    running: Some(run),
+                    ..
+                }),
+            ) => (&**run, *at),
+            (None, _) => return None,
+        };
         let (pos, bytes) = run.decoder.frame_in_progress()?;
         Some((
             run.base.saturating_add(run.bit_time.saturating_mul(pos)),
             bytes,
-            run.next_start,
-            run.bit_time,
+            end,
         ))
     }
 

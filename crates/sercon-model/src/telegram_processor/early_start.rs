@@ -66,8 +66,8 @@ pub(crate) fn take_report(
 }
 
 /// After a line input that started at `at`: the frame the receiver has in progress at the
-/// end of the bits received is queued early, ending in error where a steady line after those
-/// bits would abort it ([`ABORT_BIT_TIMES`]) unless more bits come first; one taken early
+/// end of the bits received is queued early, ending in error where the line after those bits
+/// ends it unless more bits come first (`Receiver::frame_in_progress`); one taken early
 /// before that the receiver still decodes gets that end anew; one it no longer has (and did
 /// not report) is dropped if not taken, or ends in error at `at`. Returns whether the
 /// processor's queue or frame in progress changed.
@@ -77,11 +77,8 @@ pub(crate) fn follow(chip: &mut Chip, at: Instant) -> bool {
     let pending = chip
         .serial
         .frame_in_progress()
-        .filter(|(_, bytes, _, _)| bytes.first().is_some_and(|adr| *adr != MST_ADR))
-        .map(|(start, bytes, bits_end, bit_time)| {
-            let end = bits_end.saturating_add(bit_time.saturating_mul(ABORT_BIT_TIMES));
-            (start, Shared::<[u8]>::from(bytes), end)
-        });
+        .filter(|(_, bytes, _)| bytes.first().is_some_and(|adr| *adr != MST_ADR))
+        .map(|(start, bytes, end)| (start, Shared::<[u8]>::from(bytes), end));
     let mut changed = false;
     match (chip.tp.early, pending) {
         (None, None) => {}
@@ -126,12 +123,8 @@ pub(crate) fn follow(chip: &mut Chip, at: Instant) -> bool {
     changed
 }
 
-/// Bit times after the last bit received by which a steady line ends a frame in progress:
-/// the seventh 1 aborts it (HDLC; ERRATA "Telegrams"), found with the eighth bit time.
-const ABORT_BIT_TIMES: u64 = 8;
-
-/// The frame taken early at `start`, still being decoded, ends at `end` now (later than
-/// before: more bits came). Returns whether anything changed.
+/// The frame taken early at `start`, still being decoded, ends at `end` now (more bits came,
+/// or a filler after them ends it). Returns whether anything changed.
 fn set_end(chip: &mut Chip, start: Instant, end: Instant) -> bool {
     if chip.tp.early_end == Some(end) {
         return false;
