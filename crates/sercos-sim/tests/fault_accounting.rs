@@ -1922,8 +1922,8 @@ fn a_telegram_s_start_is_taken_before_its_end_has_come() {
             &[(64, 16, 1252068, 2010596, 80691364)],
             [1, 10, 1, 0, 0],
         ),
-        // 2 slaves at 4 Mbit/s on 223 m fibres, bit errors and a drifting slave: AT 2 broken
-        // off by a filler after its bits.
+        // 2 slaves at 4 Mbit/s on 223 m fibres, bit errors and a drifting slave: AT 2 still
+        // open at the end of its bits and ended by the line after them.
         (
             2,
             1,
