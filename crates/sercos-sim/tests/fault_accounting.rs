@@ -1909,8 +1909,20 @@ fn a_burst_takes_the_first_telegram_in_its_fibre_whichever_was_sent_first() {
 // reference path, the second input).
 #[test]
 fn a_telegram_s_start_is_taken_before_its_end_has_come() {
+    /// Slaves, rate, fibre metres, MDT after the ATs, seed, AT shifts, fault draws, and the
+    /// master's NERR per AT at the end.
+    type Found = (
+        usize,
+        usize,
+        u32,
+        bool,
+        u64,
+        [i32; 5],
+        &'static [Draw],
+        [u16; 5],
+    );
     type Draw = (u8, usize, u64, u64, u32);
-    let cases: [(usize, usize, u32, bool, u64, [i32; 5], &[Draw], [u16; 5]); 3] = [
+    let cases: [Found; 3] = [
         // 5 slaves at 4 Mbit/s: AT 3's closing flag one 1 short, closed by AT 4 cutting it.
         (
             5,
