@@ -124,17 +124,19 @@ pub(crate) fn follow(chip: &mut Chip, at: Instant) -> bool {
 }
 
 /// The frame taken early at `start`, still being decoded, ends at `end` now (more bits came,
-/// or a filler after them ends it). Returns whether anything changed.
+/// or a filler after them ends it): the one queued early (found by the end it was given), or
+/// the frame in progress of that start. Returns whether anything changed.
 fn set_end(chip: &mut Chip, start: Instant, end: Instant) -> bool {
-    if chip.tp.early_end == Some(end) {
+    let old = chip.tp.early_end.replace(end);
+    if old == Some(end) {
         return false;
     }
-    chip.tp.early_end = Some(end);
-    if let Some((_, f)) = chip
-        .tp
-        .rx_queue
-        .iter_mut()
-        .find(|(_, f)| f.start == start && !f.fcs_ok)
+    if let Some(old) = old
+        && let Some((_, f)) = chip
+            .tp
+            .rx_queue
+            .iter_mut()
+            .find(|(_, f)| f.start == start && f.end == old)
     {
         f.end = end;
         return true;
