@@ -362,6 +362,15 @@ impl Chip {
         earliest(core, self.serial_next_loud_event())
     }
 
+    /// The telegram processor's queue of received frames or its frame in progress changed
+    /// outside its own steps (a frame taken back, or taken before its end): its next tick,
+    /// the next core instant and the output bound are found afresh.
+    pub(crate) fn rx_queue_changed(&mut self) {
+        self.tp_next = None;
+        self.next_core = None;
+        self.out_bound.set(None);
+    }
+
     /// Something from outside changed the state: the cached next instant of the engine and
     /// the telegram processor is recomputed at the next advance.
     pub(crate) fn touched(&mut self) {

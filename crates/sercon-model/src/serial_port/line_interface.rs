@@ -91,9 +91,7 @@ impl Chip {
             quiet = false;
         }
         if early_report {
-            self.tp_next = None;
-            self.next_core = None;
-            self.out_bound.set(None);
+            self.rx_queue_changed();
             quiet = false;
         }
         // The engine's pin levels (INT0/1, CONCLK, DIVCLK, WDOGN) do not depend on the

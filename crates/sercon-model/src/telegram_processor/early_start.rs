@@ -41,17 +41,11 @@ pub(crate) fn take_report(
 ) -> bool {
     tp.early = None;
     let early_end = tp.early_end.take();
-    if let Some(slot) = tp
-        .rx_queue
-        .iter_mut()
-        .find(|(_, q)| q.start == f.start && Some(q.end) == early_end)
-    {
+    if let Some(slot) = queued_early(tp, f.start, early_end).and_then(|i| tp.rx_queue.get_mut(i)) {
         *slot = (tick, f);
         return false;
     }
-    if tp.last_taken == Some(f.start)
-        && let Some(now) = tp.rx_now.as_mut()
-    {
+    if let Some(now) = in_progress(tp, f.start) {
         let end_tick = clock.tick_at_or_after(f.end).max(tick);
         now.end_as(f, end_tick);
         return true;
@@ -115,10 +109,7 @@ pub(crate) fn follow(chip: &mut Chip, at: Instant) -> bool {
         }
     }
     if changed {
-        // The processor's next tick and the output bound counted the queue as it was.
-        chip.tp_next = None;
-        chip.next_core = None;
-        chip.out_bound.set(None);
+        chip.rx_queue_changed();
     }
     changed
 }
@@ -131,20 +122,15 @@ fn set_end(chip: &mut Chip, start: Instant, end: Instant) -> bool {
     if old == Some(end) {
         return false;
     }
-    if let Some(old) = old
-        && let Some((_, f)) = chip
-            .tp
-            .rx_queue
-            .iter_mut()
-            .find(|(_, f)| f.start == start && f.end == old)
+    if let Some((_, f)) =
+        queued_early(&chip.tp, start, old).and_then(|i| chip.tp.rx_queue.get_mut(i))
     {
         f.end = end;
         return true;
     }
-    if chip.tp.last_taken == Some(start)
-        && let Some(now) = chip.tp.rx_now.as_mut()
-    {
-        now.end_tick = chip.clock.tick_at_or_after(end);
+    let end_tick = chip.clock.tick_at_or_after(end);
+    if let Some(now) = in_progress(&mut chip.tp, start) {
+        now.end_tick = end_tick;
         return true;
     }
     false
@@ -157,11 +143,8 @@ fn set_end(chip: &mut Chip, start: Instant, end: Instant) -> bool {
 /// had it.
 fn drop_early(chip: &mut Chip, start: Instant, at: Instant) {
     let early_end = chip.tp.early_end.take();
-    let q = &mut chip.tp.rx_queue;
-    if let Some(i) = q
-        .iter()
-        .position(|(_, f)| f.start == start && Some(f.end) == early_end)
-    {
+    if let Some(i) = queued_early(&chip.tp, start, early_end) {
+        let q = &mut chip.tp.rx_queue;
         // Cut before it began (a cut is handed over before the chip reaches it): the line
         // never had it.
         if at <= start {
@@ -171,11 +154,27 @@ fn drop_early(chip: &mut Chip, start: Instant, at: Instant) {
         }
         return;
     }
-    if chip.tp.last_taken == Some(start)
-        && let Some(now) = chip.tp.rx_now.as_mut()
-    {
-        let end_tick = chip.clock.tick_at_or_after(at);
+    let end_tick = chip.clock.tick_at_or_after(at);
+    if let Some(now) = in_progress(&mut chip.tp, start) {
         now.end_tick = end_tick.min(now.end_tick);
         now.fcs_ok = false;
+    }
+}
+
+/// Where in the queue the frame taken early at `start` waits: the one given the end `end`
+/// (`None`: none was queued early).
+fn queued_early(tp: &TelegramProcessor, start: Instant, end: Option<Instant>) -> Option<usize> {
+    let end = end?;
+    tp.rx_queue
+        .iter()
+        .position(|(_, f)| f.start == start && f.end == end)
+}
+
+/// The frame in progress, when it is the one that started at `start`.
+fn in_progress(tp: &mut TelegramProcessor, start: Instant) -> Option<&mut super::RxNow> {
+    if tp.last_taken == Some(start) {
+        tp.rx_now.as_mut()
+    } else {
+        None
     }
 }

@@ -390,9 +390,7 @@ pub(crate) fn take_back_frame(chip: &mut Chip, start: Instant) {
         chip.tp.replacing.push(replacing);
     }
     // Cached bounds counted the frame taken back.
-    chip.tp_next = None;
-    chip.next_core = None;
-    chip.out_bound.set(None);
+    chip.rx_queue_changed();
 }
 
 /// Whether a received frame is an MST (ADR 255 and one byte, 410B §4.2).
