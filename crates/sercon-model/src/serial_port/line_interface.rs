@@ -47,7 +47,7 @@ impl Chip {
         let at = seg.start;
         let mut early_report = false;
         let retracted = self.serial.line_input(seg, |f| {
-            if tp.early == Some(f.start) {
+            if tp.early.is_some_and(|e| e.start == f.start) {
                 // The report of a frame taken early gives it its end.
                 let tick = clock.tick_at_or_after(f.start);
                 early_report |=

@@ -23,6 +23,17 @@ use crate::chip::Chip;
 use crate::mclk::MclkClock;
 use crate::serial_port::{HeardFrame, Shared};
 
+/// A frame taken at its start before its end had come.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct EarlyFrame {
+    /// Its start: the receiver was still decoding it at the end of the bits received.
+    pub(crate) start: Instant,
+    /// The end the chip gave it, queued or in progress: where a steady line after the bits
+    /// received would abort it. `None` for a start taken or queued before (a frame reported
+    /// and taken back at a cut), whose end comes with its report.
+    pub(crate) end: Option<Instant>,
+}
+
 /// ADR of the MST (410B §4.2): an MST's role is decided from its length (ADR 255 and one
 /// byte, ERRATA "Telegrams"), which only its end tells, so it is never taken early.
 const MST_ADR: u8 = 255;
@@ -39,8 +50,7 @@ pub(crate) fn take_report(
     tick: u64,
     f: HeardFrame,
 ) -> bool {
-    tp.early = None;
-    let early_end = tp.early_end.take();
+    let early_end = tp.early.take().and_then(|e| e.end);
     if let Some(slot) = queued_early(tp, f.start, early_end).and_then(|i| tp.rx_queue.get_mut(i)) {
         *slot = (tick, f);
         return false;
@@ -76,18 +86,18 @@ pub(crate) fn follow(chip: &mut Chip, at: Instant) -> bool {
     let mut changed = false;
     match (chip.tp.early, pending) {
         (None, None) => {}
-        (Some(s), Some((start, _, end))) if s == start => {
+        (Some(e), Some((start, _, end))) if e.start == start => {
             // Still being decoded: it ends no earlier than the bits now received allow.
             changed = set_end(chip, start, end);
         }
         (early, pending) => {
-            if let Some(s) = early {
+            if let Some(e) = early {
                 chip.tp.early = None;
-                drop_early(chip, s, at);
+                drop_early(chip, e, at);
                 changed = true;
             }
             if let Some((start, bytes, end)) = pending {
-                chip.tp.early = Some(start);
+                let mut taken = EarlyFrame { start, end: None };
                 // A start taken or queued already (a frame reported before and taken back at
                 // a cut): its end comes with its report, or in error when the receiver drops
                 // it.
@@ -102,8 +112,9 @@ pub(crate) fn follow(chip: &mut Chip, at: Instant) -> bool {
                         fcs_ok: false,
                     };
                     chip.tp.on_rx_frame(tick, frame);
-                    chip.tp.early_end = Some(end);
+                    taken.end = Some(end);
                 }
+                chip.tp.early = Some(taken);
                 changed = true;
             }
         }
@@ -118,7 +129,10 @@ pub(crate) fn follow(chip: &mut Chip, at: Instant) -> bool {
 /// or a filler after them ends it): the one queued early (found by the end it was given), or
 /// the frame in progress of that start. Returns whether anything changed.
 fn set_end(chip: &mut Chip, start: Instant, end: Instant) -> bool {
-    let old = chip.tp.early_end.replace(end);
+    let Some(early) = chip.tp.early.as_mut() else {
+        return false;
+    };
+    let old = early.end.replace(end);
     if old == Some(end) {
         return false;
     }
@@ -136,14 +150,14 @@ fn set_end(chip: &mut Chip, start: Instant, end: Instant) -> bool {
     false
 }
 
-/// The frame queued early at `start` that the receiver stopped decoding without a report
+/// The frame queued early (`early`) that the receiver stopped decoding without a report
 /// ends in error at `at`, where the line that ended it began (no later than the end it had),
 /// whether the chip has taken its start or not: a chip that had not reached it takes it as
 /// one that had (its start was known when it was queued). A line cut before its start never
 /// had it.
-fn drop_early(chip: &mut Chip, start: Instant, at: Instant) {
-    let early_end = chip.tp.early_end.take();
-    if let Some(i) = queued_early(&chip.tp, start, early_end) {
+fn drop_early(chip: &mut Chip, early: EarlyFrame, at: Instant) {
+    let EarlyFrame { start, end } = early;
+    if let Some(i) = queued_early(&chip.tp, start, end) {
         let q = &mut chip.tp.rx_queue;
         // Cut before it began (a cut is handed over before the chip reaches it): the line
         // never had it.

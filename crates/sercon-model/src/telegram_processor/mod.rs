@@ -160,12 +160,9 @@ pub(crate) struct TelegramProcessor {
     /// (`receive::release_held_starts`): its start instant and the tick of that start, at
     /// which its receive window (410B §4.2.1 TCHK) and an MST's timing are judged.
     pub(crate) held_start: Option<(Instant, u64)>,
-    /// The start of a frame queued before its end had come (`early_start`): the receiver
-    /// was still decoding it at the end of the bits received.
-    pub(crate) early: Option<Instant>,
-    /// The end given to the frame taken early while queued or in progress (`early_start`):
-    /// where a steady line after the bits received would abort it.
-    pub(crate) early_end: Option<Instant>,
+    /// The frame the receiver was still decoding at the end of the bits received, taken at
+    /// its start before its end had come (`early_start`).
+    pub(crate) early: Option<early_start::EarlyFrame>,
     /// Frames that replace a queued frame of the same start the receiver took back
     /// ([`take_back_frame`]): the queued one decides at its start, as a chip that had
     /// taken it would have; the replacement gives its end.
