@@ -33,16 +33,7 @@ impl<T: AsRef<[u8]>> AtPacket<T> {
     /// Checks that the buffer holds ADR and a record header (sercos-telegrams.md, AT: "The
     /// AT Message Field contains one Data Record").
     pub fn check_len(&self) -> Result<(), TelegramError> {
-        let got = self.buffer.as_ref().len();
-        if got < MIN_LEN {
-            Err(TelegramError::Truncated {
-                what: "AT",
-                needed: MIN_LEN,
-                got,
-            })
-        } else {
-            Ok(())
-        }
+        TelegramError::check_at_least("AT", MIN_LEN, self.buffer.as_ref().len())
     }
 
     /// The wrapped buffer.

@@ -29,16 +29,11 @@ impl<T: AsRef<[u8]>> DataRecord<T> {
 
     /// Checks that the buffer holds the word and the service info.
     pub fn check_len(&self) -> Result<(), TelegramError> {
-        let got = self.buffer.as_ref().len();
-        if got < record::HEADER_LEN {
-            Err(TelegramError::Truncated {
-                what: "data record",
-                needed: record::HEADER_LEN,
-                got,
-            })
-        } else {
-            Ok(())
-        }
+        TelegramError::check_at_least(
+            "data record",
+            record::HEADER_LEN,
+            self.buffer.as_ref().len(),
+        )
     }
 
     /// The wrapped buffer.

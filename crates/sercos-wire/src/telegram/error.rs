@@ -57,3 +57,15 @@ pub enum TelegramError {
     #[error("MST phase bits hold {0}, but only phases 0-4 exist")]
     UnknownPhase(u8),
 }
+
+impl TelegramError {
+    /// `Ok` when `got` bytes hold at least `needed`, else [`TelegramError::Truncated`] for
+    /// `what`: the length check every view makes before it reads.
+    pub fn check_at_least(what: &'static str, needed: usize, got: usize) -> Result<(), Self> {
+        if got < needed {
+            Err(TelegramError::Truncated { what, needed, got })
+        } else {
+            Ok(())
+        }
+    }
+}

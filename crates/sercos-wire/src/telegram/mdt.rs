@@ -42,16 +42,7 @@ impl<T: AsRef<[u8]>> MdtPacket<T> {
     /// Checks that the buffer holds ADR and at least one record header (sercos-telegrams.md,
     /// MDT: the message field holds one data record or one per drive).
     pub fn check_len(&self) -> Result<(), TelegramError> {
-        let got = self.buffer.as_ref().len();
-        if got < MIN_LEN {
-            Err(TelegramError::Truncated {
-                what: "MDT",
-                needed: MIN_LEN,
-                got,
-            })
-        } else {
-            Ok(())
-        }
+        TelegramError::check_at_least("MDT", MIN_LEN, self.buffer.as_ref().len())
     }
 
     /// The wrapped buffer.

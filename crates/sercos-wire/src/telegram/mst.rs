@@ -104,13 +104,8 @@ impl<T: AsRef<[u8]>> MstPacket<T> {
     /// (sercos-telegrams.md, MST: "The Message Field for the MST consists of one 8-bit word").
     pub fn check_len(&self) -> Result<(), TelegramError> {
         let got = self.buffer.as_ref().len();
-        if got < field::MST_LEN {
-            Err(TelegramError::Truncated {
-                what: "MST",
-                needed: field::MST_LEN,
-                got,
-            })
-        } else if got > field::MST_LEN {
+        TelegramError::check_at_least("MST", field::MST_LEN, got)?;
+        if got > field::MST_LEN {
             Err(TelegramError::MstTooLong { got })
         } else {
             Ok(())
