@@ -8,7 +8,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use sercon_cli::ring::{self, FaultSpec, RingSpec, RunResult, parse_duration};
+use sercon_cli::ring::{self, FaultSpec, NodeRef, RingSpec, RunResult, parse_duration};
+use sercon_model::pins::Pin;
 
 use crate::ring_shape::RingShape;
 
@@ -41,9 +42,18 @@ pub struct RingArgs {
     /// Print the report as one JSON object instead of text.
     #[arg(long)]
     json: bool,
-    /// VCD waveform of every chip's INT0, INT1, CON_CLK and TxD.
+    /// VCD waveform of the chips' pins: INT0, INT1, CON_CLK and TxD of every node unless
+    /// --vcd-pins / --vcd-nodes choose.
     #[arg(long, value_name = "FILE")]
     vcd: Option<PathBuf>,
+    /// The pins in the VCD, comma-separated datasheet names (INT0, INT1, CON_CLK, DIV_CLK,
+    /// WDOGN, IDLE, REACTN, L_ERRN, DMAREQR, DMAREQT, TxD; case and `_` do not matter).
+    #[arg(long, value_name = "PINS", value_delimiter = ',', value_parser = parse_pin)]
+    vcd_pins: Option<Vec<Pin>>,
+    /// The nodes in the VCD, comma-separated: `master` and drive addresses (e.g.
+    /// master,1,3).
+    #[arg(long, value_name = "NODES", value_delimiter = ',')]
+    vcd_nodes: Option<Vec<NodeRef>>,
     /// pcap of one fibre (default: the one into the master, which carries every telegram)
     /// for Wireshark with contrib/wireshark/sercos2.lua.
     #[arg(long, value_name = "FILE")]
@@ -73,6 +83,15 @@ fn parse_seconds(text: &str) -> Result<sercos_wire::time::Duration, String> {
         .ok_or_else(|| format!("{text:?} is not a time such as 3, 0.5 or 1500ms"))
 }
 
+fn parse_pin(text: &str) -> Result<Pin, String> {
+    Pin::from_name(text.trim()).ok_or_else(|| {
+        format!(
+            "{text:?} is no pin of the chip (pins: {})",
+            ring::pin_names()
+        )
+    })
+}
+
 /// The spec from the config file (if any) with the options applied over it.
 fn spec_of(args: &RingArgs) -> Result<RingSpec> {
     let mut spec = args.shape.spec()?;
@@ -94,6 +113,12 @@ fn spec_of(args: &RingArgs) -> Result<RingSpec> {
         if arg.is_some() {
             slot.clone_from(arg);
         }
+    }
+    if args.vcd_pins.is_some() {
+        t.vcd_pins.clone_from(&args.vcd_pins);
+    }
+    if args.vcd_nodes.is_some() {
+        t.vcd_nodes.clone_from(&args.vcd_nodes);
     }
     if args.log_segment.is_some() {
         t.log_segment = args.log_segment;

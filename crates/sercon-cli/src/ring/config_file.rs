@@ -17,6 +17,10 @@
 //!
 //! [traces]
 //! log = "ring.log"         # also vcd, pcap, transcript; relative to the working directory
+//! log_segment = 0          # only this fibre in the log (also pcap_segment)
+//! vcd = "ring.vcd"
+//! vcd_pins = ["INT0", "TxD"]   # default INT0, INT1, CON_CLK, TxD
+//! vcd_nodes = ["master", 2]    # default every node
 //! ```
 //!
 //! Every error names the file, line and column (toml's spans), and what is wrong.
@@ -24,12 +28,13 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use sercon_model::pins::Pin;
 use sercon_regs::Variant;
 use sercos_wire::time::BitRate;
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::fault_spec::FaultSpec;
+use super::fault_spec::{FaultSpec, NodeRef};
 use super::spec::{DEFAULT_FIBRE_M, DriveSpec, RingSpec};
 use super::time_text::parse_duration;
 
@@ -90,8 +95,12 @@ struct DriveRepr {
 #[serde(deny_unknown_fields)]
 struct TracesRepr {
     log: Option<PathBuf>,
+    log_segment: Option<Spanned<i64>>,
     vcd: Option<PathBuf>,
+    vcd_pins: Option<Vec<Spanned<String>>>,
+    vcd_nodes: Option<Vec<Spanned<toml::Value>>>,
     pcap: Option<PathBuf>,
+    pcap_segment: Option<Spanned<i64>>,
     transcript: Option<PathBuf>,
 }
 
@@ -260,6 +269,49 @@ pub fn parse_config(text: &str, path: &Path) -> Result<RingSpec, ConfigError> {
         spec.faults.push(fault);
     }
     if let Some(t) = file.traces {
+        // Fibres are checked against the ring's size with the options (`setup::validate`).
+        let fibre = |v: &Option<Spanned<i64>>, what: &str| -> Result<Option<usize>, ConfigError> {
+            v.as_ref()
+                .map(|v| int(v, 0, 254, what).map(|k| k as usize))
+                .transpose()
+        };
+        spec.traces.log_segment = fibre(&t.log_segment, "log_segment")?;
+        spec.traces.pcap_segment = fibre(&t.pcap_segment, "pcap_segment")?;
+        spec.traces.vcd_pins = t
+            .vcd_pins
+            .map(|pins| {
+                pins.iter()
+                    .map(|p| {
+                        Pin::from_name(p.get_ref()).ok_or_else(|| {
+                            at(
+                                p.span().start,
+                                format!(
+                                    "vcd_pins: {:?} is no pin of the chip (pins: {})",
+                                    p.get_ref(),
+                                    super::setup::pin_names()
+                                ),
+                            )
+                        })
+                    })
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .transpose()?;
+        spec.traces.vcd_nodes = t
+            .vcd_nodes
+            .map(|nodes| {
+                nodes
+                    .iter()
+                    .map(|n| {
+                        let text = match n.get_ref() {
+                            toml::Value::String(s) => s.clone(),
+                            other => other.to_string(),
+                        };
+                        text.parse::<NodeRef>()
+                            .map_err(|e| at(n.span().start, format!("vcd_nodes: {e}")))
+                    })
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .transpose()?;
         spec.traces.log = t.log;
         spec.traces.vcd = t.vcd;
         spec.traces.pcap = t.pcap;
@@ -328,6 +380,40 @@ mod tests {
             err("[[drive]]\naddress = 1\n[[drive]]\naddress = 1\n").starts_with("ring.toml:4:11: ")
         );
         assert!(err("drives = 2\n[[drive]]\naddress = 1\n").starts_with("ring.toml:1:10: "));
+    }
+
+    // Issue 5 "Traces": a VCD of chosen pins of chosen nodes; the fibres of the log and the
+    // pcap, as the options give them.
+    #[test]
+    fn traces_choose_pins_nodes_and_fibres() {
+        let spec = parse_config(
+            "[traces]\nvcd = \"r.vcd\"\nvcd_pins = [\"int0\", \"TxD\"]\n\
+             vcd_nodes = [\"master\", 3]\nlog_segment = 2\npcap_segment = 0\n",
+            Path::new("ring.toml"),
+        )
+        .expect("valid");
+        let t = &spec.traces;
+        assert_eq!(t.vcd_pins, Some(vec![Pin::Int0, Pin::TxD]));
+        assert_eq!(t.vcd_nodes, Some(vec![NodeRef::Master, NodeRef::Drive(3)]));
+        assert_eq!((t.log_segment, t.pcap_segment), (Some(2), Some(0)));
+        let none =
+            parse_config("[traces]\nvcd = \"r.vcd\"\n", Path::new("ring.toml")).expect("valid");
+        assert_eq!((none.traces.vcd_pins, none.traces.vcd_nodes), (None, None));
+        assert!(
+            err("[traces]\nvcd_pins = [\"INT0\", \"INT7\"]\n").starts_with(
+                "ring.toml:2:21: vcd_pins: \"INT7\" is no pin of the chip (pins: INT0,"
+            ),
+            "{}",
+            err("[traces]\nvcd_pins = [\"INT0\", \"INT7\"]\n")
+        );
+        assert_eq!(
+            err("[traces]\nvcd_nodes = [1, 255]\n"),
+            "ring.toml:2:17: vcd_nodes: \"255\" is neither a drive address (1-254) nor \"master\""
+        );
+        assert_eq!(
+            err("[traces]\nlog_segment = -1\n"),
+            "ring.toml:2:15: log_segment -1 is not 0-254"
+        );
     }
 
     #[test]

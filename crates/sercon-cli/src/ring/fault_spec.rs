@@ -36,6 +36,15 @@ impl std::fmt::Display for NodeRef {
     }
 }
 
+impl std::str::FromStr for NodeRef {
+    type Err = String;
+
+    /// `master` or a drive address 1-254 (sercos-telegrams.md).
+    fn from_str(text: &str) -> Result<NodeRef, String> {
+        node(Some(&text))
+    }
+}
+
 /// What goes wrong.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FaultWhat {

@@ -100,6 +100,25 @@ pub(super) fn validate(spec: &RingSpec) -> Result<(), RingError> {
             ));
         }
     }
+    let t = &spec.traces;
+    if t.vcd.is_none() && (t.vcd_pins.is_some() || t.vcd_nodes.is_some()) {
+        return bad(
+            "--vcd-pins and --vcd-nodes choose what the VCD holds: give --vcd FILE too".into(),
+        );
+    }
+    if t.vcd_pins.as_ref().is_some_and(|p| p.is_empty()) {
+        return bad(format!("--vcd-pins names no pin (pins: {})", pin_names()));
+    }
+    if t.vcd_nodes.as_ref().is_some_and(|n| n.is_empty()) {
+        return bad("--vcd-nodes names no node (\"master\" or drive addresses)".into());
+    }
+    for node in t.vcd_nodes.iter().flatten() {
+        if let NodeRef::Drive(a) = node
+            && spec.position_of(*a).is_none()
+        {
+            return bad(format!("--vcd-nodes: there is no drive {a} on the ring"));
+        }
+    }
     for f in &spec.faults {
         for node in fault_nodes(&f.what) {
             if let NodeRef::Drive(a) = node
@@ -113,6 +132,11 @@ pub(super) fn validate(spec: &RingSpec) -> Result<(), RingError> {
         }
     }
     Ok(())
+}
+
+/// The pins a VCD can hold, by their datasheet names (410B §2, 816 §2).
+pub fn pin_names() -> String {
+    Pin::ALL.map(Pin::name).join(", ")
 }
 
 fn fault_nodes(what: &FaultWhat) -> Vec<NodeRef> {
@@ -238,7 +262,21 @@ fn trace_config(spec: &RingSpec, nodes: usize) -> TraceConfig {
     // log of every segment holds them too.
     let log_segment = t.log_segment.map(segment_id);
     let vcd = if t.vcd.is_some() {
-        (0..nodes).map(|i| (i, PinSet::of(&VCD_PINS))).collect()
+        let pins = PinSet::of(t.vcd_pins.as_deref().unwrap_or(&VCD_PINS));
+        match &t.vcd_nodes {
+            None => (0..nodes).map(|i| (i, pins)).collect(),
+            // In ring order, each node once, whatever order the user named them in (the
+            // VCD's scopes follow the ring); `validate` found every drive named.
+            Some(named) => (0..nodes)
+                .filter(|i| {
+                    named.iter().any(|n| match n {
+                        NodeRef::Master => *i == 0,
+                        NodeRef::Drive(a) => spec.position_of(*a) == Some(*i),
+                    })
+                })
+                .map(|i| (i, pins))
+                .collect(),
+        }
     } else {
         Vec::new()
     };

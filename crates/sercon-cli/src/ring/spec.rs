@@ -3,10 +3,11 @@
 
 use std::path::PathBuf;
 
+use sercon_model::pins::Pin;
 use sercon_regs::Variant;
 use sercos_wire::time::{BitRate, Duration};
 
-use super::fault_spec::FaultSpec;
+use super::fault_spec::{FaultSpec, NodeRef};
 
 /// One emulated drive on the ring, in ring order (the first one after the master first).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -29,8 +30,12 @@ pub struct TraceSpec {
     pub log: Option<PathBuf>,
     /// Only this segment (fibre index) in the log.
     pub log_segment: Option<usize>,
-    /// VCD of the chips' pins (INT0, INT1, CON_CLK, TxD of every node).
+    /// VCD of the chips' pins (by default INT0, INT1, CON_CLK, TxD of every node).
     pub vcd: Option<PathBuf>,
+    /// The pins in the VCD (`None`: INT0, INT1, CON_CLK and TxD).
+    pub vcd_pins: Option<Vec<Pin>>,
+    /// The nodes in the VCD (`None`: every node).
+    pub vcd_nodes: Option<Vec<NodeRef>>,
     /// pcap of one segment (the fibre into the master, which carries every telegram, unless
     /// `pcap_segment` says otherwise).
     pub pcap: Option<PathBuf>,
