@@ -577,3 +577,51 @@ fn wrong_vcd_choices_are_refused() {
     refused(&["ring", "--vcd-pins", "int0"], "give --vcd FILE too");
     assert!(!Path::new(&vcd).exists(), "a refused run wrote its VCD");
 }
+
+// 410B §2 REACTN (receive active, 3H.15): a drive's receiver hears the other drives'
+// telegrams pass; the fast path does not give them to it (spec-notes "Fast path = reference
+// path", limit on REACTN), so a VCD of a drive's REACTN runs on the reference path and is
+// the `--reference` run's, byte for byte (before: edges missing at every other drive's AT).
+#[test]
+fn a_drive_s_reactn_in_the_vcd_is_the_reference_path_s() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let p = |n: &str| dir.path().join(n).display().to_string();
+    let vcd = |name: &str, extra: &[&str]| {
+        let path = p(name);
+        let mut args = vec![
+            "ring",
+            "--baud",
+            "8",
+            "--drives",
+            "3",
+            "--seconds",
+            "0.02",
+            "--vcd",
+            &path,
+            "--vcd-pins",
+            "REACTN",
+            "--vcd-nodes",
+            "master,2",
+        ];
+        args.extend_from_slice(extra);
+        let o = sercon(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(&path).expect("vcd")
+    };
+    let fast = vcd("fast.vcd", &[]);
+    let reference = vcd("reference.vcd", &["--reference"]);
+    assert!(fast == reference, "the VCDs differ");
+    // Drive 2's REACTN falls for drive 1's AT too: more falls than its MST and MDT a cycle.
+    let signals = vcd_signals(&String::from_utf8_lossy(&fast));
+    let falls = |scope: &str| {
+        signals
+            .get(&(scope.to_string(), "REACTN".to_string()))
+            .map_or(0, |c| c.iter().filter(|(_, v)| *v == '0').count())
+    };
+    assert!(
+        falls("drive2") > falls("master") / 2,
+        "{} / {}",
+        falls("drive2"),
+        falls("master")
+    );
+}

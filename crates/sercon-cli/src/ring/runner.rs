@@ -3,6 +3,7 @@
 //! MST counters sampled every cycle; gathers the [`RingReport`].
 
 use sercdrv::master::Progress;
+use sercon_model::pins::Pin;
 use sercon_regs::SerconBus;
 use sercon_regs::Variant;
 use sercon_regs::ram::NMSTERR;
@@ -13,7 +14,7 @@ use sercos_wire::telegram::ControlWord;
 use sercos_wire::time::{Duration, Instant};
 
 use super::error::RingError;
-use super::fault_spec::FaultWhat;
+use super::fault_spec::{FaultWhat, NodeRef};
 use super::probes::VELOCITY_COMMAND;
 use super::report::{
     AxisReport, DriveReport, MasterEvent, RingEvent, RingEventKind, RingReport, RunResult,
@@ -73,9 +74,9 @@ pub fn run(
     spec: &RingSpec,
     progress: &mut dyn FnMut(&RunProgress),
 ) -> Result<RingOutcome, RingError> {
-    if !spec.reference && faults_beyond_drift(spec) {
-        // A fault other than drift: the reference path at once (spec-notes "The ring
-        // command", faults on the reference path).
+    if !spec.reference && (faults_beyond_drift(spec) || traces_drive_reactn(spec)) {
+        // A fault other than drift, or a drive's REACTN in the VCD: the reference path at
+        // once (spec-notes "The ring command", faults on the reference path, REACTN).
         let mut reference = spec.clone();
         reference.reference = true;
         return Ok(run_once(&reference, progress)?.0);
@@ -105,6 +106,22 @@ fn faults_beyond_drift(spec: &RingSpec) -> bool {
     spec.faults
         .iter()
         .any(|f| !matches!(f.what, FaultWhat::Drift { .. }))
+}
+
+/// Whether the VCD holds a drive's REACTN (410B §2, receive active; 3H.15). On the fast
+/// path a drive's receiver is not given the other drives' telegrams that pass it (they go
+/// from its chip's repeater straight on), so its REACTN does not fall for them (spec-notes
+/// "Fast path = reference path", limit on REACTN); the reference path gives every receiver
+/// all it hears. The master's REACTN is the same on both.
+fn traces_drive_reactn(spec: &RingSpec) -> bool {
+    let t = &spec.traces;
+    t.vcd.is_some()
+        && t.vcd_pins
+            .as_ref()
+            .is_some_and(|p| p.contains(&Pin::Reactn))
+        && t.vcd_nodes
+            .as_ref()
+            .is_none_or(|n| n.iter().any(|n| matches!(n, NodeRef::Drive(_))))
 }
 
 /// [`run`] on the path `spec` names; with the fast path's collisions.
