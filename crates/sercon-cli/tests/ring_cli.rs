@@ -484,6 +484,26 @@ fn vcd_signals(text: &str) -> std::collections::BTreeMap<(String, String), Vec<(
     out
 }
 
+/// `sercon ring` of 3 drives at 8 Mbit/s for 20 ms of phase 4 with `--vcd path` and
+/// `extra`: the VCD's bytes.
+fn vcd_run(path: &str, extra: &[&str]) -> Vec<u8> {
+    let mut args = vec![
+        "ring",
+        "--baud",
+        "8",
+        "--drives",
+        "3",
+        "--seconds",
+        "0.02",
+        "--vcd",
+        path,
+    ];
+    args.extend_from_slice(extra);
+    let o = sercon(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::read(path).expect("vcd")
+}
+
 // Issue 5 "Traces": a VCD of chosen pins of chosen nodes. The chosen run writes exactly the
 // pins and nodes asked for, in ring order, each with the same changes as in the VCD of every
 // default pin (the choice changes what is written, not the run).
@@ -491,23 +511,8 @@ fn vcd_signals(text: &str) -> std::collections::BTreeMap<(String, String), Vec<(
 fn the_vcd_holds_the_chosen_pins_of_the_chosen_nodes() {
     let dir = tempfile::tempdir().expect("temp dir");
     let p = |n: &str| dir.path().join(n).display().to_string();
-    let run = |extra: &[&str], vcd: &str| {
-        let mut args = vec![
-            "ring",
-            "--baud",
-            "8",
-            "--drives",
-            "3",
-            "--seconds",
-            "0.02",
-            "--vcd",
-            vcd,
-        ];
-        args.extend_from_slice(extra);
-        let o = sercon(&args);
-        assert!(o.status.success(), "{}", stderr(&o));
-        vcd_signals(&std::fs::read_to_string(vcd).expect("vcd"))
-    };
+    let run =
+        |extra: &[&str], vcd: &str| vcd_signals(&String::from_utf8_lossy(&vcd_run(vcd, extra)));
     let all = run(&[], &p("all.vcd"));
     let chosen = run(
         &["--vcd-pins", "txd,INT0,div_clk", "--vcd-nodes", "2,master"],
@@ -587,26 +592,9 @@ fn a_drive_s_reactn_in_the_vcd_is_the_reference_path_s() {
     let dir = tempfile::tempdir().expect("temp dir");
     let p = |n: &str| dir.path().join(n).display().to_string();
     let vcd = |name: &str, extra: &[&str]| {
-        let path = p(name);
-        let mut args = vec![
-            "ring",
-            "--baud",
-            "8",
-            "--drives",
-            "3",
-            "--seconds",
-            "0.02",
-            "--vcd",
-            &path,
-            "--vcd-pins",
-            "REACTN",
-            "--vcd-nodes",
-            "master,2",
-        ];
+        let mut args = vec!["--vcd-pins", "REACTN", "--vcd-nodes", "master,2"];
         args.extend_from_slice(extra);
-        let o = sercon(&args);
-        assert!(o.status.success(), "{}", stderr(&o));
-        std::fs::read(&path).expect("vcd")
+        vcd_run(&p(name), &args)
     };
     let fast = vcd("fast.vcd", &[]);
     let reference = vcd("reference.vcd", &["--reference"]);
