@@ -7,9 +7,12 @@
 //!   in a [`ring::RingReport`].
 //! * [`full_stack`]: the full-stack scenarios of `sercon bench` (master driver, emulated
 //!   drives, controller models and ring all running), measured in real-time factor.
+//! * [`script_format`]: the text format of `sercon script` files (register writes, reads,
+//!   checks and waits on one controller model).
 //! * [`transcript_json`]: the JSON-lines schema of the master's service-channel transcript,
 //!   shared by `sercon capture transcript --json` and `sercon ring --transcript`.
 
 pub mod full_stack;
 pub mod ring;
+pub mod script_format;
 pub mod transcript_json;

@@ -14,9 +14,7 @@ use sercon_model::vcd_trace::{Timescale, TracedChip, VcdWriter};
 use sercon_regs::{SerconBus, Variant};
 use sercos_wire::time::Instant;
 
-pub mod format;
-
-use format::{Line, Step};
+use sercon_cli::script_format::{self as format, Line, Step};
 
 /// The controller a script runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -1,7 +1,8 @@
-//! The files a user hands `sercon` (a ring description, a drive's IDN file) never make it
+//! The files a user hands `sercon` (a ring description, a drive's IDN file, a register
+//! script) never make it
 //! panic: any text, and above all near-valid text (the shipped examples with random edits,
 //! which reach far deeper into the parsers than random text does), is either taken or
-//! refused with an error that names the file, line and column. A ring description taken
+//! refused with an error that names the file, line and column (a script: its line). A ring description taken
 //! goes on through what `sercon ring` does with it before it runs (the master's
 //! configuration and cycle plan), which must not panic either.
 
@@ -10,12 +11,15 @@ use std::path::Path;
 use proptest::prelude::*;
 use sercon_cli::full_stack::plan_ring;
 use sercon_cli::ring::{master_config, parse_config};
+use sercon_cli::script_format;
+use sercon_regs::Variant;
 use sercos_drive::config_file;
 
 const RING_EXAMPLE: &str = include_str!("../../../examples/ring.toml");
 /// Where the ring example lies: its drives' IDN files are found relative to it.
 const RING_PATH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/ring.toml");
 const DRIVE_EXAMPLE: &str = include_str!("../../sercos-drive/data/tc2000r-axis.toml");
+const SCRIPT_EXAMPLE: &str = include_str!("../../../examples/scripts/con_clk_div_clk.scr");
 
 /// Characters the edits insert: what TOML and the files' values are made of, and some that
 /// they are not.
@@ -122,8 +126,29 @@ fn check_drive(text: &str) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// Parses `text` as a script for both controllers: taken with its lines in order, or refused
+/// at a line of the text.
+fn check_script(text: &str) -> Result<(), TestCaseError> {
+    let lines = text.lines().count();
+    for variant in [Variant::Sercon816, Variant::Sercon410b] {
+        match script_format::parse(text, variant) {
+            Err(e) => {
+                prop_assert!((1..=lines).contains(&e.line), "{e} of {lines} lines");
+                let place = format!("line {}: ", e.line);
+                prop_assert!(e.to_string().starts_with(&place), "{e}");
+            }
+            Ok(steps) => {
+                prop_assert!(steps.windows(2).all(|w| w[0].number < w[1].number));
+                prop_assert!(steps.iter().all(|l| (1..=lines).contains(&l.number)));
+            }
+        }
+    }
+    Ok(())
+}
+
 #[test]
 fn the_examples_are_taken_as_shipped() {
+    script_format::parse(SCRIPT_EXAMPLE, Variant::Sercon816).expect("con_clk_div_clk.scr");
     parse_config(RING_EXAMPLE, Path::new(RING_PATH)).expect("examples/ring.toml");
     assert!(
         !shipped_idn_files().is_empty(),
@@ -166,5 +191,19 @@ proptest! {
     #[test]
     fn any_text_as_an_idn_file_is_taken_or_refused_with_its_place(text in ".{0,400}") {
         check_drive(&text)?;
+    }
+
+    /// No panic from a register script: the shipped example with up to 12 random edits.
+    #[test]
+    fn an_edited_script_is_taken_or_refused_at_its_line(
+        edits in proptest::collection::vec(edit(), 1..12)
+    ) {
+        check_script(&edited(SCRIPT_EXAMPLE, &edits))?;
+    }
+
+    /// No panic from a register script: any text.
+    #[test]
+    fn any_text_as_a_script_is_taken_or_refused_at_its_line(text in ".{0,400}") {
+        check_script(&text)?;
     }
 }
