@@ -73,3 +73,133 @@ fn main() -> std::process::ExitCode {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The words of sercon's command lines, and values near them: subcommands, options, good
+    /// and bad values.
+    const WORDS: &[&str] = &[
+        "ring",
+        "bench",
+        "capture",
+        "decode",
+        "transcript",
+        "idn",
+        "read",
+        "write",
+        "list",
+        "describe",
+        "script",
+        "--drives",
+        "--baud",
+        "--cycle-us",
+        "--seconds",
+        "--seed",
+        "--fault",
+        "--vcd",
+        "--vcd-pins",
+        "--vcd-nodes",
+        "--log",
+        "--log-segment",
+        "--pcap",
+        "--pcap-segment",
+        "--transcript",
+        "--json",
+        "--reference",
+        "--variant",
+        "--telegram-type",
+        "--config",
+        "--sim-ms",
+        "--scenario",
+        "--stack",
+        "--repeat",
+        "--force",
+        "--coding",
+        "break:1@1s..2s",
+        "ber:1e-5",
+        "ber:2:3@1s..",
+        "drift:2:100@0ms",
+        "power:master@1s..2s",
+        "power:1@2s..1s",
+        "burst:1:8@1s",
+        "distort:1@0s..1s",
+        "816",
+        "410b",
+        "0",
+        "1",
+        "2",
+        "4",
+        "8",
+        "16",
+        "62",
+        "254",
+        "255",
+        "65001",
+        "-1",
+        "18446744073709551616",
+        "1e-5",
+        "1.5",
+        "0.000001",
+        "1500ms",
+        "0s",
+        "master",
+        "master,2",
+        "int0,txd",
+        "REACTN",
+        ",",
+        "x",
+        "",
+        "S-0-0001",
+        "P-0-0100",
+        "ring-8",
+        "stack-n300",
+    ];
+
+    /// The other commands, which the test only parses (they would run).
+    const OTHER_COMMANDS: &[&[&str]] = &[
+        &["bench"],
+        &["capture", "decode"],
+        &["capture", "transcript"],
+        &["idn", "read"],
+        &["idn", "write"],
+        &["script"],
+        &[],
+    ];
+
+    fn arg() -> impl Strategy<Value = String> {
+        prop_oneof![
+            4 => proptest::sample::select(WORDS).prop_map(String::from),
+            1 => ".{0,12}",
+        ]
+    }
+
+    proptest! {
+        // No panic from a command line: any words are parsed or refused by clap, and a ring
+        // command's spec is built, planned and its simulation set up (all that `sercon ring`
+        // does before it runs) or refused.
+        #[test]
+        fn any_command_line_is_taken_or_refused(
+            command in prop_oneof![
+                3 => Just(vec!["ring"]),
+                1 => proptest::sample::select(OTHER_COMMANDS).prop_map(|c| c.to_vec()),
+            ],
+            args in proptest::collection::vec(arg(), 0..8),
+        ) {
+            let argv = ["sercon"]
+                .iter()
+                .chain(&command)
+                .map(|w| w.to_string())
+                .chain(args);
+            if let Ok(Cli { command: Command::Ring(ring) }) = Cli::try_parse_from(argv)
+                && let Ok(spec) = ring_cmd::spec_of(&ring)
+                && spec.drives.iter().all(|d| d.idn_file.is_none())
+                && sercon_cli::full_stack::plan_ring(&spec).is_ok()
+            {
+                let _ = sercon_cli::ring::build(&spec, Vec::new(), false);
+            }
+        }
+    }
+}

@@ -93,7 +93,7 @@ fn parse_pin(text: &str) -> Result<Pin, String> {
 }
 
 /// The spec from the config file (if any) with the options applied over it.
-fn spec_of(args: &RingArgs) -> Result<RingSpec> {
+pub(crate) fn spec_of(args: &RingArgs) -> Result<RingSpec> {
     let mut spec = args.shape.spec()?;
     if let Some(s) = args.seconds {
         spec.run_for = s;
