@@ -358,3 +358,89 @@ fn tshark_reads_pcapng_with_one_interface_per_segment() {
     assert_eq!(rows[0][..4], ["0", "0", "2", "16"]);
     assert_eq!(rows[1][..4], ["1", "1", "2", "16"]);
 }
+
+/// Whatever a line carries, the dissector decodes it or marks it, never with a Lua error:
+/// 400 random telegrams (any length, any bytes, from the master or a slave, with and without
+/// a valid-looking ADR) and broken frames of every kind, read with and without the broadcast
+/// MDT's block length (sercos-telegrams.md: MST, MDT, AT, Data Record).
+#[test]
+fn tshark_decodes_random_telegrams_without_lua_errors() {
+    use rand_chacha::ChaCha8Rng;
+    use rand_core::{RngCore, SeedableRng};
+    let file = sample_file("trace_tshark_random.pcap");
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    let mut trace = PcapTrace::new(Vec::new(), None).unwrap();
+    let count: u32 = 400;
+    for i in 0..count {
+        // One in eight an MST's length (ADR 255 and one byte), else any length up to 59.
+        let len = if i % 8 == 0 {
+            2
+        } else {
+            (rng.next_u32() % 60) as usize
+        };
+        let mut bytes = vec![0u8; len];
+        rng.fill_bytes(&mut bytes);
+        // Every other one an MST's or a broadcast MDT's ADR, or a drive's.
+        match (i % 4, bytes.first_mut()) {
+            (0, Some(adr)) => *adr = 255,
+            (1, Some(adr)) => *adr = (*adr % 254) + 1,
+            _ => {}
+        }
+        let origin = if rng.next_u32() % 2 == 0 {
+            Origin::Master
+        } else {
+            Origin::Slave
+        };
+        let at = Instant::from_picos(u64::from(i) * 1_000_000);
+        let x = u64::from(rng.next_u32() % 1000);
+        let record = match rng.next_u32() % 5 {
+            0 => TraceRecord::line_error(
+                at,
+                SegmentId(0),
+                origin,
+                LineError::Abort {
+                    start: x,
+                    at: x + 9,
+                },
+                &bytes,
+            ),
+            1 => TraceRecord::line_error(
+                at,
+                SegmentId(0),
+                origin,
+                LineError::FcsMismatch {
+                    start: x,
+                    end: x + 8 * len as u64,
+                    received: rng.next_u32() as u16,
+                    computed: rng.next_u32() as u16,
+                },
+                &bytes,
+            ),
+            2 => TraceRecord::line_error(
+                at,
+                SegmentId(0),
+                origin,
+                LineError::TooShort {
+                    start: x,
+                    end: x + 9,
+                    bits: 3,
+                },
+                &bytes,
+            ),
+            _ => TraceRecord::telegram(at, SegmentId(0), origin, &bytes),
+        };
+        trace.record(&record).unwrap();
+    }
+    std::fs::write(&file, trace.finish().unwrap()).unwrap();
+    for prefs in [
+        &[][..],
+        &["sercos2.mdt_block_len:2"][..],
+        &["sercos2.mdt_block_len:13"][..],
+    ] {
+        // `tshark_fields` fails on a Lua error in any row.
+        let rows = tshark_fields(&file, prefs, &["sercos2.kind", "sercos2.malformed"]);
+        assert_eq!(rows.len(), count as usize, "{prefs:?}");
+        assert!(rows.iter().any(|r| r[0] == "MST"), "{prefs:?}");
+        assert!(rows.iter().any(|r| r[0] == "AT"), "{prefs:?}");
+    }
+}
