@@ -54,6 +54,18 @@ def ring_args(rng):
     # chips from running ahead; a traced fibre splits telegrams from their filler).
     if rng.random() < 0.25:
         args += ["--vcd", "v.vcd"]
+        if rng.random() < 0.5:
+            # Other pins (IDLE, REACTN and the others traced are events of the chip, not
+            # quiet: another path again), of some nodes. A drive's REACTN runs on the
+            # reference path either way (spec-notes "A VCD of chosen pins of chosen nodes"),
+            # so it is asked of the master only.
+            pins = rng.sample(["INT0", "INT1", "CON_CLK", "DIV_CLK", "WDOGN", "IDLE",
+                               "L_ERRN", "DMAREQR", "DMAREQT", "TxD"], rng.randint(1, 4))
+            nodes = rng.sample(["master"] + [str(a) for a in range(1, drives + 1)],
+                               rng.randint(1, min(3, drives + 1)))
+            if nodes == ["master"] and rng.random() < 0.5:
+                pins.append("REACTN")
+            args += ["--vcd-pins", ",".join(pins), "--vcd-nodes", ",".join(nodes)]
     if rng.random() < 0.25:
         args += ["--pcap", "p.pcap", "--pcap-segment", str(rng.randint(0, drives))]
     if rng.random() < 0.2:
