@@ -579,7 +579,10 @@ fn wrong_vcd_choices_are_refused() {
         &["ring", "--vcd", &vcd, "--vcd-nodes", "slave1"],
         "is neither a drive address (1-254) nor \"master\"",
     );
-    refused(&["ring", "--vcd-pins", "int0"], "give --vcd FILE too");
+    refused(
+        &["ring", "--vcd-pins", "int0"],
+        "give --vcd FILE (vcd = \"FILE\" under [traces]) too",
+    );
     assert!(!Path::new(&vcd).exists(), "a refused run wrote its VCD");
 }
 

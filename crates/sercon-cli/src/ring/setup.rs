@@ -103,7 +103,7 @@ pub(super) fn validate(spec: &RingSpec) -> Result<(), RingError> {
     let t = &spec.traces;
     if t.vcd.is_none() && (t.vcd_pins.is_some() || t.vcd_nodes.is_some()) {
         return bad(
-            "--vcd-pins and --vcd-nodes choose what the VCD holds: give --vcd FILE too".into(),
+            "--vcd-pins and --vcd-nodes (vcd_pins, vcd_nodes) choose what the VCD holds: give --vcd FILE (vcd = \"FILE\" under [traces]) too".into(),
         );
     }
     if t.vcd_pins.as_ref().is_some_and(|p| p.is_empty()) {
