@@ -2,6 +2,9 @@
 //! write, make the slave driver panic ("No panics from input", 410B §4.1 registers and §4.2
 //! RAM structures as the driver reads them).
 
+mod chaos_bus;
+
+use chaos_bus::{ChaosBus, Versioned};
 use proptest::prelude::*;
 use sercdrv::idn_store::IdnStore;
 use sercdrv::ram_layout::{self, PhaseGroup, RamLayoutRequest, Role};
@@ -9,46 +12,14 @@ use sercdrv::slave::{
     AT_START, CYCLE_TIME, CyclicLengths, MDT_LENGTH, MDT_POSITION, MDT_START, SlaveConfig,
     SlaveDriver, cyclic_timing,
 };
+use sercon_regs::Variant;
 use sercon_regs::host::{HostProgram, Wake};
-use sercon_regs::{SerconBus, Variant};
 use sercos_drive::database::IdnDatabase;
 use sercos_drive::drive::EmulatedDrive;
 use sercos_wire::idn::{Element, Idn};
 use sercos_wire::service_error::ServiceError;
 use sercos_wire::telegram::CommunicationPhase;
 use sercos_wire::time::{Duration, Instant};
-
-/// A bus whose every read is arbitrary: registers from a pseudo-random stream, RAM
-/// initialised at random and then holding what the driver writes.
-struct ChaosBus {
-    state: u64,
-    ram: Vec<u16>,
-}
-
-impl ChaosBus {
-    fn next(&mut self) -> u16 {
-        // xorshift64*
-        self.state ^= self.state >> 12;
-        self.state ^= self.state << 25;
-        self.state ^= self.state >> 27;
-        (self.state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 48) as u16
-    }
-}
-
-impl SerconBus for ChaosBus {
-    fn read_register(&mut self, _address: u8) -> u16 {
-        self.next()
-    }
-    fn write_register(&mut self, _address: u8, _value: u16) {}
-    fn read_ram(&mut self, address: u16) -> u16 {
-        self.ram.get(usize::from(address)).copied().unwrap_or(0)
-    }
-    fn write_ram(&mut self, address: u16, value: u16) {
-        if let Some(w) = self.ram.get_mut(usize::from(address)) {
-            *w = value;
-        }
-    }
-}
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(64)))]
@@ -58,12 +29,7 @@ proptest! {
     #[test]
     fn arbitrary_bus_contents_never_panic_the_slave(seed in 1u64.., wakes in 1usize..200, v816 in any::<bool>()) {
         let variant = if v816 { Variant::Sercon816 } else { Variant::Sercon410b };
-        let mut bus = ChaosBus { state: seed, ram: Vec::new() };
-        bus.ram = (0..variant.ram_words()).map(|_| 0).collect();
-        for i in 0..bus.ram.len() {
-            let w = bus.next();
-            if let Some(slot) = bus.ram.get_mut(i) { *slot = w; }
-        }
+        let mut bus = ChaosBus::new(seed, variant);
         let drive = EmulatedDrive::new(IdnDatabase::standard(), Instant::ZERO);
         let mut slave = SlaveDriver::new(SlaveConfig::new(variant, 5), drive).expect("config");
         let mut now = Instant::ZERO;
@@ -79,21 +45,8 @@ proptest! {
     // initialisation and serves arbitrary interrupts, PHASREC and RAM.
     #[test]
     fn arbitrary_interrupts_and_ram_after_a_good_start(seed in 1u64.., wakes in 1usize..300) {
-        struct Versioned(ChaosBus);
-        impl SerconBus for Versioned {
-            fn read_register(&mut self, address: u8) -> u16 {
-                // ERRATA "0H VERSION": 0010H on the SERCON816.
-                if address == 0 { 0x0010 } else { self.0.read_register(address) }
-            }
-            fn write_register(&mut self, a: u8, v: u16) { self.0.write_register(a, v) }
-            fn read_ram(&mut self, a: u16) -> u16 { self.0.read_ram(a) }
-            fn write_ram(&mut self, a: u16, v: u16) { self.0.write_ram(a, v) }
-        }
-        let mut bus = Versioned(ChaosBus { state: seed, ram: vec![0; 2048] });
-        for i in 0..2048 {
-            let w = bus.0.next();
-            if let Some(slot) = bus.0.ram.get_mut(i) { *slot = w; }
-        }
+        // ERRATA "0H VERSION": 0010H on the SERCON816.
+        let mut bus = Versioned(ChaosBus::new(seed, Variant::Sercon816), Variant::Sercon816);
         let drive = EmulatedDrive::new(IdnDatabase::standard(), Instant::ZERO);
         let mut slave = SlaveDriver::new(SlaveConfig::new(Variant::Sercon816, 5), drive).expect("config");
         let mut now = Instant::ZERO;

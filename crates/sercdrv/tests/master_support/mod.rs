@@ -65,6 +65,18 @@ pub fn ring_with(
     faults: Vec<Fault>,
     delivery: sercos_sim::Delivery,
 ) -> Ring {
+    ring_wrapped(cfg, databases, faults, delivery, |host| host)
+}
+
+/// [`ring_with`] with the master's host program wrapped by `wrap` (a host between the
+/// master driver and its chip, e.g. one that garbles what the driver reads).
+pub fn ring_wrapped(
+    cfg: MasterConfig,
+    databases: Vec<IdnDatabase>,
+    faults: Vec<Fault>,
+    delivery: sercos_sim::Delivery,
+    wrap: impl FnOnce(Box<dyn HostProgram>) -> Box<dyn HostProgram>,
+) -> Ring {
     let variant = cfg.variant;
     let cycle = Duration::from_micros(u64::from(cfg.cycle_us));
     let mut nodes = vec![NodeConfig::new("master", chip(variant))];
@@ -76,7 +88,7 @@ pub fn ring_with(
     let master = Rc::new(RefCell::new(
         Master::new(cfg).expect("a valid master config"),
     ));
-    hosts.push(Box::new(Shared(master.clone())));
+    hosts.push(wrap(Box::new(Shared(master.clone()))));
     for (address, db) in addresses.iter().zip(databases) {
         nodes.push(NodeConfig::new(&format!("drive{address}"), chip(variant)));
         let mut sc = sercdrv::slave::SlaveConfig::new(variant, *address);
