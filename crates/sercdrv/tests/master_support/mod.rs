@@ -65,17 +65,18 @@ pub fn ring_with(
     faults: Vec<Fault>,
     delivery: sercos_sim::Delivery,
 ) -> Ring {
-    ring_wrapped(cfg, databases, faults, delivery, |host| host)
+    ring_wrapped(cfg, databases, faults, delivery, |_, host| host)
 }
 
-/// [`ring_with`] with the master's host program wrapped by `wrap` (a host between the
-/// master driver and its chip, e.g. one that garbles what the driver reads).
+/// [`ring_with`] with every node's host program passed through `wrap` (node 0 the master,
+/// then the drives in ring order): a host between a driver and its chip, e.g. one that
+/// garbles what the driver reads.
 pub fn ring_wrapped(
     cfg: MasterConfig,
     databases: Vec<IdnDatabase>,
     faults: Vec<Fault>,
     delivery: sercos_sim::Delivery,
-    wrap: impl FnOnce(Box<dyn HostProgram>) -> Box<dyn HostProgram>,
+    mut wrap: impl FnMut(usize, Box<dyn HostProgram>) -> Box<dyn HostProgram>,
 ) -> Ring {
     let variant = cfg.variant;
     let cycle = Duration::from_micros(u64::from(cfg.cycle_us));
@@ -88,7 +89,7 @@ pub fn ring_wrapped(
     let master = Rc::new(RefCell::new(
         Master::new(cfg).expect("a valid master config"),
     ));
-    hosts.push(wrap(Box::new(Shared(master.clone()))));
+    hosts.push(wrap(0, Box::new(Shared(master.clone()))));
     for (address, db) in addresses.iter().zip(databases) {
         nodes.push(NodeConfig::new(&format!("drive{address}"), chip(variant)));
         let mut sc = sercdrv::slave::SlaveConfig::new(variant, *address);
@@ -97,7 +98,7 @@ pub fn ring_wrapped(
         let node = Rc::new(RefCell::new(
             DriveNode::with_config(sc, db).expect("a valid drive"),
         ));
-        hosts.push(Box::new(Shared(node.clone())));
+        hosts.push(wrap(hosts.len(), Box::new(Shared(node.clone()))));
         drives.push(node);
     }
     let n = nodes.len();
