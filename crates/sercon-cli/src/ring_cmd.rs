@@ -47,7 +47,9 @@ pub struct RingArgs {
     #[arg(long, value_name = "FILE")]
     vcd: Option<PathBuf>,
     /// The pins in the VCD, comma-separated datasheet names (INT0, INT1, CON_CLK, DIV_CLK,
-    /// WDOGN, IDLE, REACTN, L_ERRN, DMAREQR, DMAREQT, TxD; case and `_` do not matter).
+    /// WDOGN, IDLE, REACTN, L_ERRN, DMAREQR, DMAREQT, TxD; case and `_` do not matter). A
+    /// drive's REACTN runs the ring on the simulator's slower reference path, the one that
+    /// hands every receiver all it hears.
     #[arg(long, value_name = "PINS", value_delimiter = ',', value_parser = parse_pin)]
     vcd_pins: Option<Vec<Pin>>,
     /// The nodes in the VCD, comma-separated: `master` and drive addresses (e.g.
