@@ -50,7 +50,7 @@ pub struct RingArgs {
     /// WDOGN, IDLE, REACTN, L_ERRN, DMAREQR, DMAREQT, TxD; case and `_` do not matter). A
     /// drive's REACTN runs the ring on the simulator's slower reference path, the one that
     /// hands every receiver all it hears.
-    #[arg(long, value_name = "PINS", value_delimiter = ',', value_parser = parse_pin)]
+    #[arg(long, value_name = "PINS", value_delimiter = ',', value_parser = ring::pin_named)]
     vcd_pins: Option<Vec<Pin>>,
     /// The nodes in the VCD, comma-separated: `master` and drive addresses (e.g.
     /// master,1,3).
@@ -83,15 +83,6 @@ fn parse_seconds(text: &str) -> Result<sercos_wire::time::Duration, String> {
     };
     parse_duration(&with_unit)
         .ok_or_else(|| format!("{text:?} is not a time such as 3, 0.5 or 1500ms"))
-}
-
-fn parse_pin(text: &str) -> Result<Pin, String> {
-    Pin::from_name(text.trim()).ok_or_else(|| {
-        format!(
-            "{text:?} is no pin of the chip (pins: {})",
-            ring::pin_names()
-        )
-    })
 }
 
 /// The spec from the config file (if any) with the options applied over it.

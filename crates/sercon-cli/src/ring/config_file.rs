@@ -28,7 +28,6 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use sercon_model::pins::Pin;
 use sercon_regs::Variant;
 use sercos_wire::time::BitRate;
 use serde::Deserialize;
@@ -282,16 +281,8 @@ pub fn parse_config(text: &str, path: &Path) -> Result<RingSpec, ConfigError> {
             .map(|pins| {
                 pins.iter()
                     .map(|p| {
-                        Pin::from_name(p.get_ref()).ok_or_else(|| {
-                            at(
-                                p.span().start,
-                                format!(
-                                    "vcd_pins: {:?} is no pin of the chip (pins: {})",
-                                    p.get_ref(),
-                                    super::setup::pin_names()
-                                ),
-                            )
-                        })
+                        super::setup::pin_named(p.get_ref())
+                            .map_err(|why| at(p.span().start, format!("vcd_pins: {why}")))
                     })
                     .collect::<Result<Vec<_>, _>>()
             })
@@ -323,6 +314,7 @@ pub fn parse_config(text: &str, path: &Path) -> Result<RingSpec, ConfigError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sercon_model::pins::Pin;
 
     fn err(text: &str) -> String {
         parse_config(text, Path::new("ring.toml"))

@@ -33,7 +33,7 @@ pub use report::{
     AxisReport, DriveReport, MasterEvent, RingEvent, RingEventKind, RingReport, RunResult,
 };
 pub use runner::{RingOutcome, RunProgress, run};
-pub use setup::{BuiltRing, build, databases, master_config, pin_names};
+pub use setup::{BuiltRing, build, databases, master_config, pin_named, pin_names};
 pub use spec::{DriveSpec, RingSpec, TraceSpec};
 pub use time_text::{format_duration, parse_duration};
 pub use traces::write_traces;

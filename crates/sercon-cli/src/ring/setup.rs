@@ -113,10 +113,8 @@ pub(super) fn validate(spec: &RingSpec) -> Result<(), RingError> {
         return bad("--vcd-nodes names no node (\"master\" or drive addresses)".into());
     }
     for node in t.vcd_nodes.iter().flatten() {
-        if let NodeRef::Drive(a) = node
-            && spec.position_of(*a).is_none()
-        {
-            return bad(format!("--vcd-nodes: there is no drive {a} on the ring"));
+        if let Err(RingError::Spec(why)) = node_index(spec, *node) {
+            return bad(format!("--vcd-nodes: {why}"));
         }
     }
     for f in &spec.faults {
@@ -137,6 +135,13 @@ pub(super) fn validate(spec: &RingSpec) -> Result<(), RingError> {
 /// The pins a VCD can hold, by their datasheet names (410B §2, 816 §2).
 pub fn pin_names() -> String {
     Pin::ALL.map(Pin::name).join(", ")
+}
+
+/// The pin of datasheet name `text` (case and `_` free, [`Pin::from_name`]), or why not with
+/// the names there are: `--vcd-pins` and a ring file's `vcd_pins` say the same.
+pub fn pin_named(text: &str) -> Result<Pin, String> {
+    Pin::from_name(text.trim())
+        .ok_or_else(|| format!("{text:?} is no pin of the chip (pins: {})", pin_names()))
 }
 
 fn fault_nodes(what: &FaultWhat) -> Vec<NodeRef> {
@@ -267,15 +272,15 @@ fn trace_config(spec: &RingSpec, nodes: usize) -> TraceConfig {
             None => (0..nodes).map(|i| (i, pins)).collect(),
             // In ring order, each node once, whatever order the user named them in (the
             // VCD's scopes follow the ring); `validate` found every drive named.
-            Some(named) => (0..nodes)
-                .filter(|i| {
-                    named.iter().any(|n| match n {
-                        NodeRef::Master => *i == 0,
-                        NodeRef::Drive(a) => spec.position_of(*a) == Some(*i),
-                    })
-                })
-                .map(|i| (i, pins))
-                .collect(),
+            Some(named) => {
+                let mut chosen: Vec<usize> = named
+                    .iter()
+                    .filter_map(|n| node_index(spec, *n).ok())
+                    .collect();
+                chosen.sort_unstable();
+                chosen.dedup();
+                chosen.into_iter().map(|i| (i, pins)).collect()
+            }
         }
     } else {
         Vec::new()
