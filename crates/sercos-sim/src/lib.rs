@@ -12,6 +12,7 @@ pub mod error;
 pub mod event_queue;
 pub mod fault;
 pub mod host;
+mod host_coroutine;
 mod node;
 pub mod recorder;
 pub mod scenario;

@@ -84,8 +84,9 @@ pub(crate) struct Node {
     pub(crate) parked: bool,
     /// Index in the VCD, if traced.
     pub(crate) vcd: Option<usize>,
-    /// The host is running (or has not started yet): it is not woken again meanwhile.
-    pub(crate) host_busy: bool,
+    /// The host's wake under way, suspended in a bus access (`sim/host_run.rs`): it is not
+    /// woken again meanwhile.
+    pub(crate) host_run: Option<Box<crate::host_coroutine::HostRun>>,
 }
 
 /// The ends of a drifting node's last input and output segments of bits, in simulation
@@ -239,7 +240,7 @@ impl Node {
             ran_past: false,
             parked: false,
             vcd: None,
-            host_busy: false,
+            host_run: None,
         }
     }
 
@@ -255,16 +256,6 @@ impl Node {
         self.host_deadline = self.host.wake(&mut bus, now, why);
         self.woke(why);
         self.repeating = repeats(&mut self.chip);
-    }
-
-    /// Wakes the host for interrupt changes and a due deadline, as often as they come.
-    pub(crate) fn serve_host(&mut self) {
-        for _ in 0..MAX_HOST_WAKES {
-            let Some(why) = self.host_due() else {
-                return;
-            };
-            self.run_host(why);
-        }
     }
 
     /// Why the host is to be woken now (an interrupt pin changed, its deadline passed),
@@ -296,10 +287,15 @@ impl Node {
     }
 
     /// Whether serving the node now would do nothing but take its output and empty its
-    /// receive log: no pin is traced, and [`Node::host_due`] would find nothing (INT0/INT1
+    /// receive log: no pin is traced, no suspended host's access has ended, and
+    /// [`Node::host_due`] would find nothing (INT0/INT1
     /// as the host last saw them, no second wake pending, its deadline not passed).
     pub(crate) fn quiet_host(&self) -> bool {
         self.vcd.is_none()
+            && self
+                .host_run
+                .as_ref()
+                .is_none_or(|r| r.resume_at > self.chip.now())
             && !self.rewake
             && self.host_deadline.is_none_or(|d| d > self.chip.now())
             && (

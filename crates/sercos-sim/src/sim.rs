@@ -102,6 +102,10 @@ pub struct SimStats {
     /// order at every receiver). A ring whose telegrams keep clear of each other at every
     /// repeater has none.
     pub fast_path_collisions: u64,
+    /// Host bus accesses during which the ring ran along (the host's program waited for
+    /// the access's end while other events were taken), not quiet ones that only moved the
+    /// host's chip on (spec-notes "A host's bus time").
+    pub host_suspensions: u64,
 }
 
 /// One segment (fibre, or the bus) as the simulation sees it.
@@ -192,10 +196,11 @@ pub struct Simulation {
     /// For each node, the first node from it on that is not plain (`plain_hop`), or the
     /// node count: where a run of plain repeaters starting there ends.
     run_end: Vec<usize>,
-    /// Hosts running inside other hosts' bus time (`host_run`).
-    host_nesting: usize,
-    /// The first error of events run inside a host's bus time, for `run_until` to return.
-    held_error: Option<SimError>,
+    /// Stacks for the hosts' wakes (`host_run`, `crate::host_coroutine`).
+    stacks: crate::host_coroutine::Stacks,
+    /// Hosts waiting in a bus access: when it ends (simulation time) and the node, earliest
+    /// first (`host_run`); an entry whose node no longer waits then is passed over.
+    resumes: std::collections::BinaryHeap<std::cmp::Reverse<(Instant, usize)>>,
     /// The last pass through plain repeaters, while the output floors it wrote stand.
     plain_pass: Option<PlainPass>,
     /// Quiet wakes skip the touched list ([`Simulation::wake_node`]); off only in tests
@@ -463,8 +468,8 @@ impl Simulation {
             bus_line: None,
             now: Instant::ZERO,
             lookahead: Lookahead::default(),
-            host_nesting: 0,
-            held_error: None,
+            stacks: crate::host_coroutine::Stacks::default(),
+            resumes: std::collections::BinaryHeap::new(),
             light_wakes: true,
             short_paths: true,
             run_ahead_ok,
@@ -483,9 +488,6 @@ impl Simulation {
         };
         sim.start_hosts();
         sim.settle();
-        if let Some(e) = sim.held_error.take() {
-            return Err(e);
-        }
         Ok(sim)
     }
 
@@ -548,22 +550,48 @@ impl Simulation {
     }
 
     /// Runs every event up to and including `t`, then brings every powered chip to `t`.
+    /// A host program that is part way through its work then (waiting in a bus access,
+    /// `host_run`) is run to its end, the ring running along in time order: no host is
+    /// left in the middle of a wake, so whoever shares a program's state may look at it
+    /// when this returns. [`Simulation::now`] may so lie past `t`.
     pub fn run_until(&mut self, t: Instant) -> Result<(), SimError> {
         self.run_to = t;
         self.ran_to = self.ran_to.max(t);
-        while let Some(ev) = self.queue.pop_until(t) {
-            self.process(ev)?;
-        }
+        self.run_events(t)?;
         self.now = self.now.max(t);
         for j in 0..self.nodes.len() {
             self.advance_node(j, t);
         }
         self.settle();
-        if let Some(e) = self.held_error.take() {
-            return Err(e);
+        while let Some(std::cmp::Reverse((r, _))) = self.resumes.peek() {
+            let r = *r;
+            self.run_events(r)?;
         }
         self.recorder.flush_before(self.now)?;
         Ok(())
+    }
+
+    /// Runs the queued events and the hosts' accesses that end (`resumes`) up to and
+    /// including `t`, in time order; at one instant the queue's events first (a fault
+    /// applies before what the nodes do then, and a node's own events before its host
+    /// goes on).
+    fn run_events(&mut self, t: Instant) -> Result<(), SimError> {
+        loop {
+            let resume = self.resumes.peek().map(|std::cmp::Reverse(r)| *r);
+            let bound = resume.map_or(t, |(r, _)| r.min(t));
+            if let Some(ev) = self.queue.pop_until(bound) {
+                self.process(ev)?;
+                continue;
+            }
+            match resume {
+                Some((r, j)) if r <= t => {
+                    self.resumes.pop();
+                    self.resume_host(j, r);
+                    self.recorder.flush_before(self.now)?;
+                }
+                _ => return Ok(()),
+            }
+        }
     }
 
     /// Runs one event of the queue and serves the nodes it touched.
@@ -581,9 +609,6 @@ impl Simulation {
                 if self.wake_node(j, time)? {
                     // Served and rescheduled: one settle round is spent.
                     self.settle_rounds(1);
-                    if let Some(e) = self.held_error.take() {
-                        return Err(e);
-                    }
                     return self.recorder.flush_before(self.now);
                 }
             }
@@ -591,9 +616,6 @@ impl Simulation {
             Ev::FaultEnd(i) => self.fault_end(i, time)?,
         }
         self.settle();
-        if let Some(e) = self.held_error.take() {
-            return Err(e);
-        }
         self.recorder.flush_before(self.now)
     }
 
@@ -1660,6 +1682,9 @@ impl Simulation {
                     n.chip.advance_to(local);
                 }
                 self.settle();
+                // Its host's wake under way ends on the chip alone (what it does reaches
+                // nobody now; at power-on the program starts over, `Wake::PowerOn`).
+                self.finish_host_alone(node);
                 if let Some(n) = self.nodes.get_mut(node) {
                     n.powered = false;
                     n.parked = false;
@@ -1747,6 +1772,7 @@ impl Simulation {
                     n.chip.pin_level(sercon_model::pins::Pin::Int0),
                     n.chip.pin_level(sercon_model::pins::Pin::Int1),
                 );
+                debug_assert!(n.host_run.is_none(), "a host's wake left at power-on");
                 n.run_host(Wake::PowerOn);
                 n.repeating = repeats(&mut n.chip);
                 self.touch(node);

@@ -1,254 +1,248 @@
 //! Hosts inside the ring. A host's bus accesses cost time (`NodeConfig::bus_access`), and
-//! the ring runs along with them: before an access moves its chip's clock on, every other
-//! node's events up to then are run and the chip's own output is put on the line, so that
-//! every line segment reaches a chip before the chip's clock passes its start (the contract
-//! of `Chip::line_input`). Without this a host that works for a while (the master's driver
-//! handles a cycle in ≈ 18 µs at 100 ns per access) ran its chip past the signal still on
-//! its way, and the receiver saw no edges: a false FIBBR (410B §4.1 2H.13) on an intact
-//! ring (`docs/spec-notes.md`, "Ring simulation").
+//! the ring runs along with them, other hosts included: each wake of a host program runs as
+//! a coroutine (`crate::host_coroutine`) that is suspended at every access. The access is
+//! performed on the chip at the chip's time; then, unless nothing can reach or leave the
+//! chip before the access ends (the quiet access: the chip is only moved on), the node
+//! waits with a wake at the access's end while every other event up to then is taken in
+//! time order, and the program goes on at that wake. Every line segment so reaches a chip
+//! before the chip's clock passes its start (the contract of `Chip::line_input`), and
+//! every host's accesses come one access time apart, whoever else is busy meanwhile
+//! (spec-notes "A host's bus time").
 
-use sercon_model::Chip;
-use sercon_regs::SerconBus;
 use sercos_wire::time::{Duration, Instant};
 
 use super::Simulation;
-use crate::error::SimError;
-use crate::host::{HostProgram, IdleHost, Wake};
+use crate::host::{IdleHost, Wake};
+use crate::host_coroutine::{Access, HostRun, HostStep};
 use crate::node::{MAX_HOST_WAKES, repeats};
-
-/// Hosts woken inside other hosts' bus time at most this deep; deeper ones move only their
-/// own chip on ([`crate::host::NodeBus`]), so a long chain of busy hosts cannot exhaust the stack.
-const MAX_HOST_NESTING: usize = 16;
-
-/// A host's access to its chip inside a running simulation (see the module notes).
-struct RingBus<'a> {
-    sim: &'a mut Simulation,
-    node: usize,
-    cost: Duration,
-}
-
-impl RingBus<'_> {
-    fn chip(&mut self) -> Option<&mut Chip> {
-        self.sim.nodes.get_mut(self.node).map(|n| &mut n.chip)
-    }
-
-    fn spend(&mut self) {
-        if let Err(e) = self.sim.spend_host_time(self.node, self.cost) {
-            self.sim.held_error.get_or_insert(e);
-        }
-    }
-}
-
-impl SerconBus for RingBus<'_> {
-    fn read_register(&mut self, address: u8) -> u16 {
-        let v = self.chip().map_or(0, |c| c.read_register(address));
-        self.spend();
-        v
-    }
-
-    fn write_register(&mut self, address: u8, value: u16) {
-        if let Some(c) = self.chip() {
-            c.write_register(address, value);
-        }
-        self.spend();
-    }
-
-    fn read_ram(&mut self, address: u16) -> u16 {
-        let v = self.chip().map_or(0, |c| c.read_ram(address));
-        self.spend();
-        v
-    }
-
-    fn write_ram(&mut self, address: u16, value: u16) {
-        if let Some(c) = self.chip() {
-            c.write_ram(address, value);
-        }
-        self.spend();
-    }
-}
+use crate::topology::Topology;
 
 impl Simulation {
-    /// Wakes node `j`'s host for interrupt changes and a due deadline, as often as they come
-    /// (`Node::serve_host`), with the ring running along (a busy host is not woken again).
+    /// Serves node `j`'s host: goes on with its wake under way once the access it waits
+    /// for has ended, and wakes it for interrupt changes and a due deadline, as often as
+    /// they come (`Node::host_due`, [`MAX_HOST_WAKES`] at most per call), until it waits in
+    /// an access or has nothing due. A host whose wake is under way is not woken again.
     pub(super) fn serve_host(&mut self, j: usize) {
-        if self.host_nesting >= MAX_HOST_NESTING {
-            if let Some(node) = self.nodes.get_mut(j)
-                && !node.host_busy
-            {
-                node.serve_host();
-            }
-            return;
-        }
-        for _ in 0..MAX_HOST_WAKES {
+        let mut wakes = 0;
+        loop {
             let Some(node) = self.nodes.get_mut(j) else {
                 return;
             };
-            if node.host_busy || !node.powered {
+            if !node.powered {
+                return;
+            }
+            if let Some(run) = node.host_run.take() {
+                if run.resume_at > node.chip.now() {
+                    node.host_run = Some(run);
+                    return;
+                }
+                if !self.drive_host(j, run) {
+                    return;
+                }
+                continue;
+            }
+            if wakes >= MAX_HOST_WAKES {
                 return;
             }
             let Some(why) = node.host_due() else {
                 return;
             };
-            self.host_wake(j, why);
+            wakes += 1;
+            let host = std::mem::replace(&mut node.host, Box::new(IdleHost));
+            let Some(stack) = self.stacks.take() else {
+                // No stack to be had: the wake runs whole on its chip alone, as at the start
+                // (`start_hosts`).
+                if let Some(node) = self.nodes.get_mut(j) {
+                    node.host = host;
+                    node.run_host(why);
+                }
+                self.touch(j);
+                continue;
+            };
+            let now = node.chip.now();
+            let run = Box::new(HostRun::start(stack, host, now, why));
+            if !self.drive_host(j, run) {
+                return;
+            }
         }
     }
 
-    /// Runs node `j`'s host once for `why`, its accesses through a [`RingBus`].
-    pub(super) fn host_wake(&mut self, j: usize, why: Wake) {
+    /// Runs node `j`'s host wake `run` on: each access it asks for is performed on the chip
+    /// at the chip's time and lasts one `NodeConfig::bus_access`. A quiet access (nothing
+    /// can reach or leave the chip before it ends, [`Simulation::access_is_quiet`]) only
+    /// moves the chip on and the program goes on at once; any other suspends the program
+    /// until the access's end, when the node's wake serves it again (`serve_host`). Returns
+    /// whether the wake ended (`false`: it waits in an access).
+    fn drive_host(&mut self, j: usize, mut run: Box<HostRun>) -> bool {
+        loop {
+            match run.resume() {
+                HostStep::Access(access) => {
+                    // Set before the program's first access: the queue must hold every
+                    // node's wake before `access_is_quiet` asks it.
+                    self.set_rewakes();
+                    let Some(node) = self.nodes.get_mut(j) else {
+                        return true;
+                    };
+                    run.value = access.perform(&mut node.chip);
+                    let cost = node.cfg.bus_access;
+                    if cost == Duration::ZERO {
+                        continue;
+                    }
+                    let target = node.chip.now().saturating_add(cost);
+                    // The access may have changed whether the chip repeats its input
+                    // (410B §4.1 1H.3 REPON): the ring follows it from now on.
+                    if access.writes_register() {
+                        node.repeating = repeats(&mut node.chip);
+                    }
+                    if self.access_is_quiet(j, target) {
+                        if let Some(node) = self.nodes.get_mut(j) {
+                            node.chip.advance_to(target);
+                        }
+                        continue;
+                    }
+                    let Some(node) = self.nodes.get_mut(j) else {
+                        return true;
+                    };
+                    run.resume_at = target;
+                    node.host_run = Some(run);
+                    let until = node.clock.to_global(target);
+                    self.resumes.push(std::cmp::Reverse((until, j)));
+                    // A read of the RAM leaves the chip as it was (410B §4.2: the host's
+                    // port); any other access may have changed what it does next: the node
+                    // is served again (its pins, its output, its wake).
+                    if !matches!(access, Access::ReadRam(_)) {
+                        self.touch(j);
+                    }
+                    self.stats.host_suspensions += 1;
+                    return false;
+                }
+                HostStep::Done(host, deadline) => {
+                    let why = run.why;
+                    if let Some(stack) = run.into_stack() {
+                        self.stacks.give(stack);
+                    }
+                    if let Some(node) = self.nodes.get_mut(j) {
+                        node.host = host;
+                        node.host_deadline = deadline;
+                        node.repeating = repeats(&mut node.chip);
+                        node.woke(why);
+                    }
+                    self.touch(j);
+                    return true;
+                }
+            }
+        }
+    }
+
+    /// Node `j`'s host goes on at `r` (simulation time), the end of the access it waits in
+    /// (`resumes`; an entry for a host that no longer waits then is passed over). Its chip is
+    /// brought there; with nothing of the chip due before (its own events are its wakes,
+    /// taken first) the program goes on at once (`drive_host`), else the node is served as
+    /// at a wake of its own, which goes on with it (`serve_host`).
+    #[inline(never)]
+    pub(super) fn resume_host(&mut self, j: usize, r: Instant) {
+        self.now = self.now.max(r);
+        self.deferred.clear();
         let Some(node) = self.nodes.get_mut(j) else {
             return;
         };
-        let busy = std::mem::replace(&mut node.host_busy, true);
-        let mut host: Box<dyn HostProgram> = std::mem::replace(&mut node.host, Box::new(IdleHost));
-        let now = node.chip.now();
-        let cost = node.cfg.bus_access;
-        self.host_nesting += 1;
-        let deadline = host.wake(
-            &mut RingBus {
-                sim: self,
-                node: j,
-                cost,
-            },
-            now,
-            why,
-        );
-        self.host_nesting -= 1;
-        if let Some(node) = self.nodes.get_mut(j) {
-            node.host = host;
-            node.host_busy = busy;
-            node.host_deadline = deadline;
-            node.repeating = repeats(&mut node.chip);
-            node.woke(why);
+        let Some(local) = node.host_run.as_ref().map(|run| run.resume_at) else {
+            return;
+        };
+        if !node.powered || node.clock.to_global(local) != r {
+            return;
         }
-        self.touch(j);
+        let due = node.chip.next_event_at().is_some_and(|e| e <= local);
+        node.chip.advance_to(local);
+        if due {
+            self.touch(j);
+        } else if let Some(run) = node.host_run.take() {
+            self.drive_host(j, run);
+        }
+        self.settle();
     }
 
-    /// Moves node `j`'s chip on by one bus access of `cost`, running the ring along: in
-    /// steps that end no later than the shortest fibre after the next wake of the others
-    /// and after the chip's own next event (no signal gets from one node to another
-    /// faster), the chip first (its output goes on the line at once), then every event of
-    /// the other nodes up to the step's end, but none within a fibre of the access's end
-    /// (what they send cannot arrive before it ends).
-    fn spend_host_time(&mut self, j: usize, cost: Duration) -> Result<(), SimError> {
-        if cost == Duration::ZERO {
-            return Ok(());
-        }
-        // The queue must hold every node's wake before it is asked below.
-        self.set_rewakes();
-        let Some(node) = self.nodes.get(j) else {
-            return Ok(());
+    /// The least time a signal takes from node `k` to node `j`: on a ring the fibres from
+    /// `k` round to `j` (410B §1 Fig. 3: the line runs one way; the repeaters' latency left
+    /// out, a lower bound), on the bus its delay (Fig. 4); `None` for no time at all.
+    fn reach_delay(&self, k: usize, j: usize) -> Option<Duration> {
+        let d = match self.topology {
+            Topology::Bus { delay } => delay,
+            Topology::Ring { .. } => {
+                let at = |i: usize| self.from_master.get(i).copied().unwrap_or(Duration::ZERO);
+                if j > k {
+                    at(j).saturating_sub(at(k))
+                } else {
+                    let round = self
+                        .from_master
+                        .last()
+                        .copied()
+                        .unwrap_or(Duration::ZERO)
+                        .saturating_add(self.seg_delays.last().copied().unwrap_or(Duration::ZERO));
+                    round.saturating_sub(at(k)).saturating_add(at(j))
+                }
+            }
         };
-        let target = node.chip.now().saturating_add(cost);
-        let until = node.clock.to_global(target);
+        (d > Duration::ZERO).then_some(d)
+    }
+
+    /// Whether node `j`'s access ending at `target` (node time) is quiet: no node waits to
+    /// be served (its host or output could reach this chip), no fault event up to the
+    /// access's end, no node wake early enough for what it sends to arrive before the access
+    /// ends (its arrival is a fibre delay later at the least; a waiting host's access's end too),
+    /// and nothing of this chip due before then (no internal event, so no pin or interrupt
+    /// change; no output segment). Nothing can reach or leave the chip meanwhile, so moving
+    /// it on is all that waiting for the access's end with the ring running along would do.
+    fn access_is_quiet(&mut self, j: usize, target: Instant) -> bool {
+        let Some(until) = self.nodes.get(j).map(|n| n.clock.to_global(target)) else {
+            return false;
+        };
         // The shortest fibre: nothing a node sends at `e` reaches another before `e + hop`.
         let hop = self.min_fibre_delay;
-        // Quiet access: no node waits to be served (its host or output could reach this
-        // chip), no fault event up to the access's end, no node wake early enough for what
-        // it sends to arrive before the access ends (its arrival is a fibre delay later at
-        // the least), and nothing of this chip due before then (no internal event, so no
-        // pin or interrupt change; no output segment). Nothing can reach or leave the chip
-        // meanwhile, so moving it on is all the steps below would do (they would serve and
-        // reschedule the node for nothing).
         let reaches = |e: Instant| hop.map_or(e, |h| e.saturating_add(h)) <= until;
-        if self.touched.is_empty()
+        self.touched.is_empty()
             && self.queue.peek_fault_time().is_none_or(|e| e > until)
             && !self.queue.peek_wake_time().is_some_and(reaches)
-            && node.chip.next_event_at().is_none_or(|e| e > target)
-        {
-            if let Some(node) = self.nodes.get_mut(j) {
-                node.chip.advance_to(target);
-            }
-            return Ok(());
-        }
-        let mut first = true;
-        loop {
-            let Some(node) = self.nodes.get_mut(j) else {
-                return Ok(());
-            };
-            if node.chip.now() >= target {
-                return Ok(());
-            }
-            let from = node.clock.to_global(node.chip.now());
-            let own = node.chip.next_event_at();
-            let mut step = until;
-            match hop {
-                // Nothing a node sends at `e` reaches another before `e + hop`: the chip
-                // may run up to a fibre past the next wake of the others (what they send
-                // then arrives no earlier) and a fibre past its own next event (what it
-                // sends then, served at once below, reaches the others no earlier, and
-                // anything they send back no earlier still). Faults act at their instant
-                // (a node's power or clock), so the step stops there; so do nodes still
-                // waiting to be served (what they release may have started before now).
-                Some(h) if self.touched.is_empty() => {
-                    if let Some(w) = self.queue.peek_wake_time() {
-                        step = step.min(w.saturating_add(h));
-                    }
-                    if let Some(f) = self.queue.peek_fault_time() {
-                        step = step.min(f.max(from));
-                    }
-                    let own = own.map_or(Instant::MAX, |e| node.clock.to_global(e));
-                    step = step.min(own.max(from).saturating_add(h));
-                }
-                _ => {
-                    if let Some(h) = hop {
-                        step = step.min(from.saturating_add(h));
-                    }
-                    if let Some(e) = self.queue.peek_time() {
-                        step = step.min(e.max(from));
-                    }
-                }
-            }
-            let local = node.clock.to_local(step).min(target);
-            // Always forward: at least to the next picosecond of the node's own time.
-            let local = local.max(node.chip.now().saturating_add(Duration::from_picos(1)));
-            // The node is served (pins, output, wake) on the access's first step (the
-            // access may have changed what its chip does next: its wake must follow, as
-            // hosts woken meanwhile run ahead and the queue alone moves this chip on) and
-            // then only when its chip has something due up to the step's end: otherwise
-            // moving it on changes nothing anyone can see (no internal event, so no pin
-            // or interrupt change; no output segment) and leaves its next event, so its
-            // wake, where they were; its host is busy, so it is not woken either.
-            let due = first || own.is_some_and(|e| e <= local);
-            first = false;
-            node.chip.advance_to(local);
-            if due {
-                self.touch(j);
-            }
-            self.settle();
-            let step = self
+            && !self.resumes.iter().any(|std::cmp::Reverse((r, k))| {
+                self.reach_delay(*k, j)
+                    .is_none_or(|d| r.saturating_add(d) <= until)
+            })
+            && self
                 .nodes
                 .get(j)
-                .map_or(step, |n| n.clock.to_global(n.chip.now()));
-            // The others' events only as far as they can reach this chip within the access:
-            // one less than a fibre before its end sends nothing that arrives before the
-            // access ends, and waits for its turn (the queue keeps the order). So the quiet
-            // access above, which runs none of them, is this loop's shortcut, not an
-            // approximation. Run up to the access's end, they took in the wake of a node whose
-            // host is busy further out (hosts nest, `host_wake`), which moved that chip on
-            // under its host: its next access came that much late, not one access time
-            // (`NodeConfig::bus_access`) after the last, and only where the inner access was
-            // not quiet. With 20 drives at 4 Mbit/s the master read 4H on INT0 (410B §4.1
-            // 4H.4 INT_COMEND) and its write clearing the flags (INT0 falls) came 10.95 µs
-            // late on the reference path only: there a wake 50 ns before the end kept the last
-            // access of drive 15 (the innermost of the 15 slave hosts nested in the master's
-            // read) off the quiet shortcut, and it ran the master's wake at the end
-            // (spec-notes "Ring simulation", "Events a host's access runs").
-            let step = match hop {
-                Some(h) => step.min(Instant::from_picos(
-                    until.as_picos().saturating_sub(h.as_picos()),
-                )),
-                None => step,
-            };
-            self.run_events_until(step)?;
-        }
+                .is_some_and(|n| n.chip.next_event_at().is_none_or(|e| e > target))
     }
 
-    /// Runs the queued events up to and including `t` (inside a host's bus time).
-    fn run_events_until(&mut self, t: Instant) -> Result<(), SimError> {
-        while let Some(ev) = self.queue.pop_until(t) {
-            self.process(ev)?;
+    /// Ends node `j`'s host wake under way, if any, on its chip alone (each access moving
+    /// the chip on by its bus time, as at the start): the node was powered off, and nothing
+    /// it does can reach the ring any more.
+    pub(super) fn finish_host_alone(&mut self, j: usize) {
+        let Some(node) = self.nodes.get_mut(j) else {
+            return;
+        };
+        let Some(mut run) = node.host_run.take() else {
+            return;
+        };
+        let cost = node.cfg.bus_access;
+        loop {
+            match run.resume() {
+                HostStep::Access(access) => {
+                    run.value = access.perform(&mut node.chip);
+                    let t = node.chip.now().saturating_add(cost);
+                    node.chip.advance_to(t);
+                }
+                HostStep::Done(host, deadline) => {
+                    let why = run.why;
+                    if let Some(stack) = run.into_stack() {
+                        self.stacks.give(stack);
+                    }
+                    node.host = host;
+                    node.host_deadline = deadline;
+                    node.woke(why);
+                    return;
+                }
+            }
         }
-        Ok(())
     }
 
     /// Wakes every host with [`Wake::Start`], in node order, each on its own chip at time

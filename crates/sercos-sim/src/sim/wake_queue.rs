@@ -177,7 +177,8 @@ impl WakeQueue {
         }
     }
 
-    /// The time of the next event, if any.
+    /// The time of the next event, if any (tests: the order against the general queue).
+    #[cfg(test)]
     pub(super) fn peek_time(&mut self) -> Option<Instant> {
         self.settle_popped();
         let wake = self.first_wake().map(|(k, _)| key_time(k));
