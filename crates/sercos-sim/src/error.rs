@@ -58,4 +58,20 @@ pub enum SimError {
     /// A static ring that cannot be laid out.
     #[error("static ring: {0}")]
     Layout(String),
+    /// A host program never ended its wakes for long enough that the run could stop between
+    /// them (`Simulation::run_until` returns with every host between wakes): the program's
+    /// work takes all of its time.
+    #[error(
+        "node {node}: its host program was at work without a break from {from:?} to {to:?}; \
+         a run stops only between a host's wakes (shorter work per wake, or a shorter bus \
+         access time)"
+    )]
+    HostNeverIdle {
+        /// The node.
+        node: usize,
+        /// Where the run was asked to stop.
+        from: sercos_wire::time::Instant,
+        /// Where it gave up waiting.
+        to: sercos_wire::time::Instant,
+    },
 }

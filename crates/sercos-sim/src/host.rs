@@ -3,6 +3,9 @@
 //! controller's interrupt pins and by its own deadline, it reaches its chip only through
 //! [`SerconBus`] ([`NodeBus`]), at the node's current time, each access costing a configurable
 //! time. Times are the node's own (its clock may run fast or slow, [`crate::clock::NodeClock`]).
+//! In a running [`crate::Simulation`] a program's wake waits at each access for the access's
+//! bus time while the ring and the other hosts go on (spec-notes "A host's bus time"); a
+//! program is written as plain code all the same.
 
 use sercon_model::Chip;
 use sercon_regs::SerconBus;

@@ -19,9 +19,9 @@ use sercos_wire::time::Instant;
 
 use crate::host::{HostProgram, Wake};
 
-/// Size of a host program's stack: the drivers need a few KiB; the rest is address space
-/// that is never touched (the pages are mapped as they are used).
-const STACK_BYTES: usize = 1 << 20;
+/// Size of a host program's stack, that of a spawned thread: the drivers need a few KiB; the
+/// rest is address space that is never touched (the pages are mapped as they are used).
+const STACK_BYTES: usize = 2 << 20;
 
 /// One access of a host program to its chip (the four of [`SerconBus`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -57,6 +57,11 @@ impl Access {
     /// input, 410B §4.1 1H.3 REPON, 2H).
     pub(crate) fn writes_register(self) -> bool {
         matches!(self, Access::WriteRegister(..))
+    }
+
+    /// Whether it reads or writes a control register (410B §4.1), not the RAM.
+    pub(crate) fn is_register(self) -> bool {
+        matches!(self, Access::ReadRegister(_) | Access::WriteRegister(..))
     }
 }
 

@@ -51,6 +51,10 @@ pub(crate) struct Node {
     pub(crate) rewake: bool,
     /// The current wake is such a second wake (it earns no further one).
     pub(crate) rewaking: bool,
+    /// INT0 or INT1 differed from what the host last saw while its wake was under way (a
+    /// change it could not take then): it is woken again when the wake ends, even if the
+    /// pin is back at the level it saw ([`Node::note_pins`]).
+    pub(crate) changed_while_busy: bool,
     /// Exact path: the repeater's copies of what was delivered, not yet released, oldest
     /// first.
     pub(crate) expect: std::collections::VecDeque<ExpectedCopy>,
@@ -227,6 +231,7 @@ impl Node {
             ints: (false, false),
             rewake: false,
             rewaking: false,
+            changed_while_busy: false,
             expect: std::collections::VecDeque::new(),
             resume: None,
             last_out: None,
@@ -265,7 +270,8 @@ impl Node {
             self.chip.pin_level(Pin::Int0),
             self.chip.pin_level(Pin::Int1),
         );
-        if ints != self.ints {
+        let changed = std::mem::take(&mut self.changed_while_busy);
+        if ints != self.ints || changed {
             self.ints = ints;
             Some(Wake::Interrupt {
                 int0: ints.0,
@@ -283,6 +289,20 @@ impl Node {
             Some(Wake::Deadline)
         } else {
             None
+        }
+    }
+
+    /// Notes a change of INT0 / INT1 from what the host last saw while its wake is under
+    /// way (410B §2: the outputs are levels, and a level-triggered host input takes a pulse
+    /// that came and went while the host was busy once the host is done; spec-notes
+    /// "INT0/INT1 are level-triggered for the host").
+    pub(crate) fn note_pins(&mut self) {
+        let ints = (
+            self.chip.pin_level(Pin::Int0),
+            self.chip.pin_level(Pin::Int1),
+        );
+        if ints != self.ints {
+            self.changed_while_busy = true;
         }
     }
 

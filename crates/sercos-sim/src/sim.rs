@@ -54,6 +54,10 @@ const NO_NODE: usize = usize::MAX;
 /// Rounds of "serve the nodes an event touched" per event before giving up on quiet.
 const MAX_SETTLE_ROUNDS: usize = 1024;
 
+/// How long after the instant asked for [`Simulation::run_until`] waits for every host to be
+/// between wakes: 100 ms, a million accesses at 100 ns without a break.
+pub const HOST_BREAK_LIMIT: Duration = Duration::from_millis(100);
+
 /// What the queue holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Ev {
@@ -551,9 +555,11 @@ impl Simulation {
 
     /// Runs every event up to and including `t`, then brings every powered chip to `t`.
     /// A host program that is part way through its work then (waiting in a bus access,
-    /// `host_run`) is run to its end, the ring running along in time order: no host is
-    /// left in the middle of a wake, so whoever shares a program's state may look at it
-    /// when this returns. [`Simulation::now`] may so lie past `t`.
+    /// `host_run`) is run to its end, the ring running along in time order (hosts woken
+    /// meanwhile too), until no host is in the middle of a wake, so whoever shares a
+    /// program's state may look at it when this returns. [`Simulation::now`] may so lie
+    /// past `t`. A host that is still at work [`HOST_BREAK_LIMIT`] after `t` gives
+    /// [`SimError::HostNeverIdle`].
     pub fn run_until(&mut self, t: Instant) -> Result<(), SimError> {
         self.run_to = t;
         self.ran_to = self.ran_to.max(t);
@@ -563,8 +569,15 @@ impl Simulation {
             self.advance_node(j, t);
         }
         self.settle();
-        while let Some(std::cmp::Reverse((r, _))) = self.resumes.peek() {
-            let r = *r;
+        let limit = t.saturating_add(HOST_BREAK_LIMIT);
+        while let Some(&std::cmp::Reverse((r, j))) = self.resumes.peek() {
+            if r > limit {
+                return Err(SimError::HostNeverIdle {
+                    node: j,
+                    from: t,
+                    to: limit,
+                });
+            }
             self.run_events(r)?;
         }
         self.recorder.flush_before(self.now)?;

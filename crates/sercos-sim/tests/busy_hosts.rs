@@ -3,9 +3,10 @@
 //! and a real chip keeps sending and receiving while its host works (410B §1), so a static
 //! ring whose hosts all read RAM for a while each cycle — all of them at the same instant,
 //! each woken inside the others' bus time — must put exactly the telegrams on every fibre
-//! that the same ring with idle hosts does. The simulation runs the ring along in steps
-//! while a host works (`sim/host_run.rs`): steps that were too long would deliver segments
-//! late or put a busy node's output on the line late, and the log would differ.
+//! that the same ring with idle hosts does. The simulation runs the ring along while a host
+//! works, each host waiting in its accesses (`sim/host_run.rs`): a chip moved on too far
+//! under its host would take segments late or put its output on the line late, and the log
+//! would differ.
 
 mod ring_support;
 

@@ -179,6 +179,16 @@ fn workers(
     a_tint1: u16,
     faults: Vec<sercos_sim::fault::Fault>,
 ) -> (Simulation, Rc<RefCell<Seen>>, Rc<RefCell<Seen>>) {
+    workers_reading(delivery, a_tint1, (40, 250), faults)
+}
+
+/// [`workers`] with a's and b's programs reading `reads` RAM words.
+fn workers_reading(
+    delivery: Delivery,
+    a_tint1: u16,
+    reads: (u16, u16),
+    faults: Vec<sercos_sim::fault::Fault>,
+) -> (Simulation, Rc<RefCell<Seen>>, Rc<RefCell<Seen>>) {
     let nodes: Vec<NodeConfig> = ["a", "b"]
         .iter()
         .map(|name| {
@@ -199,12 +209,12 @@ fn workers(
     let seen_b = Rc::new(RefCell::new(Seen::default()));
     let a = Worker {
         timer: Timer::new(100, a_tint1, TIME0, false),
-        reads: 40,
+        reads: reads.0,
         seen: seen_a.clone(),
     };
     let b = Worker {
         timer: Timer::new(102, 900, TIME0, false),
-        reads: 250,
+        reads: reads.1,
         seen: seen_b.clone(),
     };
     let sim = Simulation::new(cfg, vec![Box::new(a), Box::new(b)]).expect("two nodes");
@@ -290,6 +300,157 @@ fn a_run_returns_with_every_host_program_ended() {
         assert!(
             chip_now >= Some(end),
             "{delivery:?}: b's chip at {chip_now:?}"
+        );
+    }
+}
+
+/// Two workers with any timers, programs and access time (each with a break between its
+/// wakes), on any fibres: the run is the same whether `run_until` is called in steps of any length (each ending with every host
+/// program run to its end) or once, on both paths: every wake, every last read of 5H, both
+/// chips' registers and RAM words 0..64 and DONE words.
+mod stepped {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// What a run leaves: the workers' records and both chips' state.
+    fn outcome(
+        delivery: Delivery,
+        p: &Params,
+        steps: &[u64],
+    ) -> (Vec<Instant>, Vec<u16>, Vec<Instant>, Vec<u16>, Vec<u16>) {
+        let nodes: Vec<NodeConfig> = ["a", "b"]
+            .iter()
+            .map(|name| {
+                let mut node = NodeConfig::new(name, ChipConfig::sercon816());
+                node.bus_access = Duration::from_nanos(p.access_ns);
+                node
+            })
+            .collect();
+        let cfg = SimConfig {
+            topology: Topology::ring(2, p.fibre_m),
+            nodes,
+            faults: Vec::new(),
+            seed: 1,
+            delivery,
+            traces: Default::default(),
+        };
+        let seen_a = Rc::new(RefCell::new(Seen::default()));
+        let seen_b = Rc::new(RefCell::new(Seen::default()));
+        let a = Worker {
+            timer: Timer::new(p.tint0_a, p.tint1_a, TIME0, false),
+            reads: p.reads_a,
+            seen: seen_a.clone(),
+        };
+        let b = Worker {
+            timer: Timer::new(p.tint0_b, 900, TIME0, false),
+            reads: p.reads_b,
+            seen: seen_b.clone(),
+        };
+        let mut sim = Simulation::new(cfg, vec![Box::new(a), Box::new(b)]).expect("two nodes");
+        let end = 3 * 31_250_000u64;
+        let mut t = 0u64;
+        for s in steps.iter().cycle() {
+            t = (t + s).min(end);
+            sim.run_until(Instant::from_picos(t)).expect("runs");
+            if t == end {
+                break;
+            }
+        }
+        let mut chips = Vec::new();
+        for i in 0..2 {
+            let chip = sim.chip_mut(i).expect("a node");
+            chips.extend((0u8..0x2B).map(|r| chip.read_register(r)));
+            chips.extend((0u16..64).map(|w| chip.read_ram(w)));
+        }
+        let (a, b) = (seen_a.borrow(), seen_b.borrow());
+        (
+            a.woke.clone(),
+            a.last_5h.clone(),
+            b.woke.clone(),
+            b.last_5h.clone(),
+            chips,
+        )
+    }
+
+    /// A pair of workers.
+    #[derive(Debug, Clone)]
+    struct Params {
+        tint0_a: u16,
+        tint1_a: u16,
+        tint0_b: u16,
+        reads_a: u16,
+        reads_b: u16,
+        access_ns: u64,
+        fibre_m: u32,
+    }
+
+    /// Programs of at most 123 accesses of at most 200 ns (24.6 µs), woken by TIME0 in the
+    /// first 18.75 µs of a 31.25 µs cycle: every host has a break before its next wake.
+    fn params() -> impl Strategy<Value = Params> {
+        (
+            50u16..600,
+            50u16..900,
+            50u16..600,
+            0u16..120,
+            0u16..120,
+            20u64..200,
+            1u32..200,
+        )
+            .prop_map(
+                |(tint0_a, tint1_a, tint0_b, reads_a, reads_b, access_ns, fibre_m)| Params {
+                    tint0_a,
+                    tint1_a,
+                    tint0_b,
+                    reads_a,
+                    reads_b,
+                    access_ns,
+                    fibre_m,
+                },
+            )
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(
+            std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(24)
+        ))]
+
+        #[test]
+        fn busy_hosts_run_the_same_in_any_steps(
+            p in params(),
+            steps in proptest::collection::vec(100_000u64..7_000_000, 1..6),
+        ) {
+            for delivery in [Delivery::Fast, Delivery::Exact] {
+                let whole = outcome(delivery, &p, &[u64::MAX / 4]);
+                let stepped = outcome(delivery, &p, &steps);
+                prop_assert_eq!(&whole, &stepped, "{:?} {:?}", delivery, p);
+                prop_assert!(!whole.0.is_empty() && !whole.2.is_empty(), "both woken: {:?}", p);
+            }
+        }
+    }
+}
+
+/// Hosts whose work never leaves them a break (programs of 40.3 µs woken every 31.25 µs,
+/// side by side so that they wait in their accesses; each is woken again for the TIME0
+/// that came while it worked, its INT0 low and high again meanwhile, 410B §2 level
+/// outputs): `run_until` cannot return between their wakes and says so
+/// ([`sercos_sim::sim::HOST_BREAK_LIMIT`] after the instant asked for), in finite time.
+#[test]
+fn a_host_never_between_wakes_is_an_error_not_a_hang() {
+    // One path: 100 ms of busy hosts take a while in a debug build.
+    for delivery in [Delivery::Fast] {
+        let (mut sim, seen_a, _) = workers_reading(delivery, 900, (400, 400), Vec::new());
+        let err = sim
+            .run_until(Instant::from_picos(1_000_000_000))
+            .expect_err("never between wakes");
+        assert!(
+            matches!(err, sercos_sim::SimError::HostNeverIdle { .. }),
+            "{delivery:?}: {err}"
+        );
+        // 100 ms of programs of 40.3 µs, back to back.
+        assert!(
+            seen_a.borrow().ended > 2000,
+            "{delivery:?}: it kept working: {}",
+            seen_a.borrow().ended
         );
     }
 }

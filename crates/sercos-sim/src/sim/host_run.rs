@@ -34,6 +34,7 @@ impl Simulation {
             if let Some(run) = node.host_run.take() {
                 if run.resume_at > node.chip.now() {
                     node.host_run = Some(run);
+                    node.note_pins();
                     return;
                 }
                 if !self.drive_host(j, run) {
@@ -84,6 +85,12 @@ impl Simulation {
                         return true;
                     };
                     run.value = access.perform(&mut node.chip);
+                    // Only a register access can change INT0 / INT1 at once (410B §4.1 3H,
+                    // 4H–8H); a change of the chip's own comes at an event of its own,
+                    // where the node is served (`serve_host` notes it there).
+                    if access.is_register() {
+                        node.note_pins();
+                    }
                     let cost = node.cfg.bus_access;
                     if cost == Duration::ZERO {
                         continue;
@@ -117,15 +124,9 @@ impl Simulation {
                     return false;
                 }
                 HostStep::Done(host, deadline) => {
-                    let why = run.why;
-                    if let Some(stack) = run.into_stack() {
-                        self.stacks.give(stack);
-                    }
+                    self.end_host_wake(j, run, host, deadline);
                     if let Some(node) = self.nodes.get_mut(j) {
-                        node.host = host;
-                        node.host_deadline = deadline;
                         node.repeating = repeats(&mut node.chip);
-                        node.woke(why);
                     }
                     self.touch(j);
                     return true;
@@ -232,16 +233,30 @@ impl Simulation {
                     node.chip.advance_to(t);
                 }
                 HostStep::Done(host, deadline) => {
-                    let why = run.why;
-                    if let Some(stack) = run.into_stack() {
-                        self.stacks.give(stack);
-                    }
-                    node.host = host;
-                    node.host_deadline = deadline;
-                    node.woke(why);
+                    self.end_host_wake(j, run, host, deadline);
                     return;
                 }
             }
+        }
+    }
+
+    /// Node `j`'s host wake `run` has ended: the program back in its node with the deadline
+    /// it asked for, the wake's stack kept for the next one.
+    fn end_host_wake(
+        &mut self,
+        j: usize,
+        run: Box<HostRun>,
+        host: Box<dyn crate::host::HostProgram>,
+        deadline: Option<Instant>,
+    ) {
+        let why = run.why;
+        if let Some(stack) = run.into_stack() {
+            self.stacks.give(stack);
+        }
+        if let Some(node) = self.nodes.get_mut(j) {
+            node.host = host;
+            node.host_deadline = deadline;
+            node.woke(why);
         }
     }
 
