@@ -163,6 +163,27 @@ impl Simulation {
         self.settle();
     }
 
+    /// Whether another host's access end (`resumes`) comes early enough for what its node
+    /// sends then to reach node `j` by `until`: with a few hosts waiting, each by the fibres
+    /// from its node round to `j` ([`Simulation::reach_delay`]); with more, the earliest by
+    /// the shortest fibre (a bound no later than any of them, and one look instead of one per
+    /// waiting host, which would make a ring of 254 busy drives quadratic).
+    fn resume_reaches(&self, j: usize, until: Instant) -> bool {
+        const FEW: usize = 8;
+        if self.resumes.len() <= FEW {
+            self.resumes.iter().any(|std::cmp::Reverse((r, k))| {
+                self.reach_delay(*k, j)
+                    .is_none_or(|d| r.saturating_add(d) <= until)
+            })
+        } else {
+            self.resumes
+                .peek()
+                .is_some_and(|std::cmp::Reverse((r, _))| {
+                    self.min_fibre_delay.map_or(*r, |h| r.saturating_add(h)) <= until
+                })
+        }
+    }
+
     /// The least time a signal takes from node `k` to node `j`: on a ring the fibres from
     /// `k` round to `j` (410B §1 Fig. 3: the line runs one way; the repeaters' latency left
     /// out, a lower bound), on the bus its delay (Fig. 4); `None` for no time at all.
@@ -204,10 +225,7 @@ impl Simulation {
         self.touched.is_empty()
             && self.queue.peek_fault_time().is_none_or(|e| e > until)
             && !self.queue.peek_wake_time().is_some_and(reaches)
-            && !self.resumes.iter().any(|std::cmp::Reverse((r, k))| {
-                self.reach_delay(*k, j)
-                    .is_none_or(|d| r.saturating_add(d) <= until)
-            })
+            && !self.resume_reaches(j, until)
             && self
                 .nodes
                 .get(j)
