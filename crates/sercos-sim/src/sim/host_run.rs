@@ -124,7 +124,7 @@ impl Simulation {
                     return false;
                 }
                 HostStep::Done(host, deadline) => {
-                    self.end_host_wake(j, run, host, deadline);
+                    self.end_host_wake(j, *run, host, deadline);
                     if let Some(node) = self.nodes.get_mut(j) {
                         node.repeating = repeats(&mut node.chip);
                     }
@@ -251,7 +251,7 @@ impl Simulation {
                     node.chip.advance_to(t);
                 }
                 HostStep::Done(host, deadline) => {
-                    self.end_host_wake(j, run, host, deadline);
+                    self.end_host_wake(j, *run, host, deadline);
                     return;
                 }
             }
@@ -263,7 +263,7 @@ impl Simulation {
     fn end_host_wake(
         &mut self,
         j: usize,
-        run: Box<HostRun>,
+        run: HostRun,
         host: Box<dyn crate::host::HostProgram>,
         deadline: Option<Instant>,
     ) {
