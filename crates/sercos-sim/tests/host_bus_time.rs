@@ -304,8 +304,8 @@ fn a_run_returns_with_every_host_program_ended() {
     }
 }
 
-/// Two workers with any timers, programs and access time (each with a break between its
-/// wakes), on any fibres: the run is the same whether `run_until` is called in steps of any length (each ending with every host
+/// Two workers with any timers, programs and access time (leaving an instant in each cycle
+/// at which neither is at work), on any fibres: the run is the same whether `run_until` is called in steps of any length (each ending with every host
 /// program run to its end) or once, on both paths: every wake, every last read of 5H, both
 /// chips' registers and RAM words 0..64 and DONE words.
 mod stepped {
@@ -386,15 +386,16 @@ mod stepped {
         fibre_m: u32,
     }
 
-    /// Programs of at most 123 accesses of at most 200 ns (24.6 µs), woken by TIME0 in the
-    /// first 18.75 µs of a 31.25 µs cycle: every host has a break before its next wake.
+    /// Programs of at most 63 accesses of at most 200 ns (12.6 µs) each, once a cycle of
+    /// 31.25 µs: the two together cannot cover the cycle, so there is an instant in every
+    /// cycle at which neither is at work and a run can stop (`run_until`).
     fn params() -> impl Strategy<Value = Params> {
         (
             50u16..600,
             50u16..900,
             50u16..600,
-            0u16..120,
-            0u16..120,
+            0u16..60,
+            0u16..60,
             20u64..200,
             1u32..200,
         )
