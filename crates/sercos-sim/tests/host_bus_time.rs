@@ -189,16 +189,50 @@ fn workers_reading(
     reads: (u16, u16),
     faults: Vec<sercos_sim::fault::Fault>,
 ) -> (Simulation, Rc<RefCell<Seen>>, Rc<RefCell<Seen>>) {
+    let pair = Pair {
+        tint0_a: 100,
+        tint1_a: a_tint1,
+        tint0_b: 102,
+        reads_a: reads.0,
+        reads_b: reads.1,
+        access_ns: ACCESS_NS,
+        fibre_m: 10,
+    };
+    two_workers(delivery, &pair, faults)
+}
+
+/// Two [`Worker`]s, a on the master's place and b after it, on a ring of two fibres.
+#[derive(Debug, Clone)]
+struct Pair {
+    /// a's TINT0 and TINT1 (ticks of 31.25 ns), b's TINT0.
+    tint0_a: u16,
+    tint1_a: u16,
+    tint0_b: u16,
+    /// RAM words each program reads.
+    reads_a: u16,
+    reads_b: u16,
+    /// One bus access.
+    access_ns: u64,
+    /// Each fibre's length.
+    fibre_m: u32,
+}
+
+/// The ring of `pair`, with `faults`, and each worker's record.
+fn two_workers(
+    delivery: Delivery,
+    pair: &Pair,
+    faults: Vec<sercos_sim::fault::Fault>,
+) -> (Simulation, Rc<RefCell<Seen>>, Rc<RefCell<Seen>>) {
     let nodes: Vec<NodeConfig> = ["a", "b"]
         .iter()
         .map(|name| {
             let mut node = NodeConfig::new(name, ChipConfig::sercon816());
-            node.bus_access = Duration::from_nanos(ACCESS_NS);
+            node.bus_access = Duration::from_nanos(pair.access_ns);
             node
         })
         .collect();
     let cfg = SimConfig {
-        topology: Topology::ring(2, 10),
+        topology: Topology::ring(2, pair.fibre_m),
         nodes,
         faults,
         seed: 1,
@@ -208,13 +242,13 @@ fn workers_reading(
     let seen_a = Rc::new(RefCell::new(Seen::default()));
     let seen_b = Rc::new(RefCell::new(Seen::default()));
     let a = Worker {
-        timer: Timer::new(100, a_tint1, TIME0, false),
-        reads: reads.0,
+        timer: Timer::new(pair.tint0_a, pair.tint1_a, TIME0, false),
+        reads: pair.reads_a,
         seen: seen_a.clone(),
     };
     let b = Worker {
-        timer: Timer::new(102, 900, TIME0, false),
-        reads: reads.1,
+        timer: Timer::new(pair.tint0_b, 900, TIME0, false),
+        reads: pair.reads_b,
         seen: seen_b.clone(),
     };
     let sim = Simulation::new(cfg, vec![Box::new(a), Box::new(b)]).expect("two nodes");
@@ -321,36 +355,8 @@ mod stepped {
     }
 
     /// What a run leaves.
-    fn outcome(delivery: Delivery, p: &Params, steps: &[u64]) -> Outcome {
-        let nodes: Vec<NodeConfig> = ["a", "b"]
-            .iter()
-            .map(|name| {
-                let mut node = NodeConfig::new(name, ChipConfig::sercon816());
-                node.bus_access = Duration::from_nanos(p.access_ns);
-                node
-            })
-            .collect();
-        let cfg = SimConfig {
-            topology: Topology::ring(2, p.fibre_m),
-            nodes,
-            faults: Vec::new(),
-            seed: 1,
-            delivery,
-            traces: Default::default(),
-        };
-        let seen_a = Rc::new(RefCell::new(Seen::default()));
-        let seen_b = Rc::new(RefCell::new(Seen::default()));
-        let a = Worker {
-            timer: Timer::new(p.tint0_a, p.tint1_a, TIME0, false),
-            reads: p.reads_a,
-            seen: seen_a.clone(),
-        };
-        let b = Worker {
-            timer: Timer::new(p.tint0_b, 900, TIME0, false),
-            reads: p.reads_b,
-            seen: seen_b.clone(),
-        };
-        let mut sim = Simulation::new(cfg, vec![Box::new(a), Box::new(b)]).expect("two nodes");
+    fn outcome(delivery: Delivery, p: &Pair, steps: &[u64]) -> Outcome {
+        let (mut sim, seen_a, seen_b) = two_workers(delivery, p, Vec::new());
         let end = 3 * 31_250_000u64;
         let mut t = 0u64;
         for s in steps.iter().cycle() {
@@ -374,22 +380,10 @@ mod stepped {
         }
     }
 
-    /// A pair of workers.
-    #[derive(Debug, Clone)]
-    struct Params {
-        tint0_a: u16,
-        tint1_a: u16,
-        tint0_b: u16,
-        reads_a: u16,
-        reads_b: u16,
-        access_ns: u64,
-        fibre_m: u32,
-    }
-
     /// Programs of at most 63 accesses of at most 200 ns (12.6 µs) each, once a cycle of
     /// 31.25 µs: the two together cannot cover the cycle, so there is an instant in every
     /// cycle at which neither is at work and a run can stop (`run_until`).
-    fn params() -> impl Strategy<Value = Params> {
+    fn params() -> impl Strategy<Value = Pair> {
         (
             50u16..600,
             50u16..900,
@@ -400,7 +394,7 @@ mod stepped {
             1u32..200,
         )
             .prop_map(
-                |(tint0_a, tint1_a, tint0_b, reads_a, reads_b, access_ns, fibre_m)| Params {
+                |(tint0_a, tint1_a, tint0_b, reads_a, reads_b, access_ns, fibre_m)| Pair {
                     tint0_a,
                     tint1_a,
                     tint0_b,
