@@ -2,9 +2,10 @@
 //! the ring runs along with them, other hosts included: each wake of a host program runs as
 //! a coroutine (`crate::host_coroutine`) that is suspended at every access. The access is
 //! performed on the chip at the chip's time; then, unless nothing can reach or leave the
-//! chip before the access ends (the quiet access: the chip is only moved on), the node
-//! waits with a wake at the access's end while every other event up to then is taken in
-//! time order, and the program goes on at that wake. Every line segment so reaches a chip
+//! chip before the access ends (the quiet access: the chip is only moved on), the program
+//! waits in the simulation's heap of access ends (`Simulation::resumes`) while every other
+//! event up to then is taken in time order, and goes on there (`resume_host`). Every line
+//! segment so reaches a chip
 //! before the chip's clock passes its start (the contract of `Chip::line_input`), and
 //! every host's accesses come one access time apart, whoever else is busy meanwhile
 //! (spec-notes "A host's bus time").
@@ -72,14 +73,15 @@ impl Simulation {
     /// at the chip's time and lasts one `NodeConfig::bus_access`. A quiet access (nothing
     /// can reach or leave the chip before it ends, [`Simulation::access_is_quiet`]) only
     /// moves the chip on and the program goes on at once; any other suspends the program
-    /// until the access's end, when the node's wake serves it again (`serve_host`). Returns
-    /// whether the wake ended (`false`: it waits in an access).
+    /// until the access's end, entered in `resumes` (`resume_host` goes on with it there, or
+    /// `serve_host` when the node is served at or after it). Returns whether the wake ended
+    /// (`false`: it waits in an access).
     fn drive_host(&mut self, j: usize, mut run: Box<HostRun>) -> bool {
         loop {
             match run.resume() {
                 HostStep::Access(access) => {
-                    // Set before the program's first access: the queue must hold every
-                    // node's wake before `access_is_quiet` asks it.
+                    // The queue must hold every node's wake before `access_is_quiet` asks
+                    // it.
                     self.set_rewakes();
                     let Some(node) = self.nodes.get_mut(j) else {
                         return true;
