@@ -587,6 +587,23 @@ impl Chip {
         }
     }
 
+    /// Whether INT0 and INT1 request an interrupt now, whatever the pins' polarity: the bits
+    /// 3H.0 INTFL0 and 3H.3 INTFL1 a read of 3H would give (410B §4.1), without the rest
+    /// of that register.
+    pub fn interrupt_requests(&self) -> (bool, bool) {
+        let e = &self.engine;
+        (e.flags.request(&e.s, 0), e.flags.request(&e.s, 1))
+    }
+
+    /// What a bus read of the register at word address `address` gives now
+    /// ([`SerconBus::read_register`]), without its effect and without a bus access: a read of
+    /// RFIFO (27H) shows the oldest word of the receive FIFO instead of taking it; any other
+    /// register reads the same either way (410B §4.1: reads change nothing but RFIFO). For a
+    /// simulation or a test that looks at a chip without being its host.
+    pub fn peek_register(&self, address: u8) -> u16 {
+        crate::register_access::peek(self, address)
+    }
+
     /// Chooses which pins produce [`PinEvent`]s from now on.
     pub fn set_traced_pins(&mut self, pins: PinSet) {
         self.touched();
@@ -796,7 +813,8 @@ impl Chip {
 
 impl SerconBus for Chip {
     fn read_register(&mut self, address: u8) -> u16 {
-        self.touched();
+        // Only a read of RFIFO changes the chip (`register_access::read` then drops what
+        // the chip remembers of its next events); any other read leaves it as it was.
         crate::register_access::read(self, address)
     }
 

@@ -7,16 +7,30 @@ use crate::chip::Chip;
 use crate::settings::Settings;
 
 /// A bus read of the register at word address `address` at the chip's current time.
+/// Only a read of RFIFO changes the chip (410B §4.1 27H: it takes the oldest word of the
+/// receive FIFO); any other read is [`peek`], and the chip's remembered next events stand.
 pub(crate) fn read(chip: &mut Chip, address: u8) -> u16 {
     let address = address & sercon_regs::register::REGISTER_ADDRESS_MASK;
+    if Register::from_address(address) != Some(Register::Fifo) {
+        return peek(chip, address);
+    }
+    // 410B §4.1 27H RFIFO: a read takes the oldest word of the receive FIFO (DMAREQR may
+    // fall, 410B §2 pin 38).
+    chip.touched();
+    let before = chip.tp.fifo.state();
+    let w = chip.tp.fifo.read();
+    chip.dma_accessed(before);
+    chip.engine.regs.read(address, w)
+}
+
+/// What a bus read of the register at `address` gives at the chip's current time, without
+/// its effect: RFIFO's oldest word is shown, not taken (410B §4.1 27H); every other
+/// register reads the same either way (410B §4.1: R/W bits read back, status bits show
+/// the chip's state, flags are cleared by writes only).
+pub(crate) fn peek(chip: &Chip, address: u8) -> u16 {
+    let address = address & sercon_regs::register::REGISTER_ADDRESS_MASK;
     let status = match Register::from_address(address) {
-        // 410B §4.1 27H RFIFO: a read takes the oldest word of the receive FIFO.
-        Some(Register::Fifo) => {
-            let before = chip.tp.fifo.state();
-            let w = chip.tp.fifo.read();
-            chip.dma_accessed(before);
-            w
-        }
+        Some(Register::Fifo) => chip.tp.fifo.oldest(),
         Some(register) => status_bits(chip, register),
         None => 0,
     };
@@ -40,7 +54,7 @@ fn status_bits(chip: &Chip, register: Register) -> u16 {
         // 410B §4.1 2H.10-11 levels at TM0-1; RDIST/FIBBR come with the serial interface.
         // 410B §4.1 2H.12 RDIST, 2H.13 FIBBR from the serial port's receiver.
         Register::Ctrl2 => {
-            let (rdist, fibbr, _, _) = chip.serial_status();
+            let (rdist, fibbr) = chip.receiver_status();
             bit(straps.tm0, 10) | bit(straps.tm1, 11) | bit(rdist, 12) | bit(fibbr, 13)
         }
         Register::Ctrl3 => {
@@ -54,11 +68,13 @@ fn status_bits(chip: &Chip, register: Register) -> u16 {
                 (run.is_some(), run.is_some_and(|r| r.block == 1))
             };
             let tp = &chip.tp;
+            let (idle, reactn) = chip.serial_pin_status();
             // 410B §4.1 3H.0 INTFL0, 3H.3 INTFL1, 3H.9 FLTMT, 3H.10 FLRWAIT, 3H.11 FLREC,
             // 3H.12 DMAREQT, 3H.13 DMAREQR; 3H.14 IDLE and 3H.15 REACTN read their
             // inactive (high) pin levels until the serial interface drives them.
-            bit(e.flags.request(&e.s, 0), 0)
-                | bit(e.flags.request(&e.s, 1), 3)
+            let (intfl0, intfl1) = chip.interrupt_requests();
+            bit(intfl0, 0)
+                | bit(intfl1, 3)
                 | bit(comact, 6)
                 | bit(comblk, 7)
                 | bit(tp.tx_end.is_some(), 9)
@@ -66,8 +82,8 @@ fn status_bits(chip: &Chip, register: Register) -> u16 {
                 | bit(tp.flrec, 11)
                 | bit(tp.fifo.dmareqt(), 12)
                 | bit(tp.fifo.dmareqr(), 13)
-                | bit(chip.serial_status().2, 14)
-                | bit(chip.serial_status().3, 15)
+                | bit(idle, 14)
+                | bit(reactn, 15)
         }
         // 410B §4.1 4H/5H: the interrupt flags.
         Register::IntFlagsLo => e.flags.lo,

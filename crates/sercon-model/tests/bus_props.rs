@@ -10,6 +10,9 @@
 //!   used, these bits are set to 0");
 //! * VERSION reads the circuit code (816 §2.11.1.1);
 //! * a RAM word reads back what was just written (410B §1, 816 §2.5);
+//! * a register read changes nothing but RFIFO (27H), and reads what
+//!   `Chip::peek_register` showed before it, INTFL0 / INTFL1 (3H.0, 3H.3) what
+//!   `Chip::interrupt_requests` shows (410B §4.1);
 //! * time only moves forward, and `next_deadline` is never in the past.
 
 use proptest::prelude::*;
@@ -82,7 +85,20 @@ fn check(cfg: ChipConfig, ops: &[Op], traced: bool) -> Result<(), TestCaseError>
     for op in ops {
         match *op {
             Op::ReadReg(a) => {
+                // 410B §4.1: a read changes nothing but RFIFO (27H), whose oldest word it
+                // takes; `peek_register` gives the same word without the read.
+                let peeked = chip.peek_register(a);
+                let before = format!("{chip:?}");
                 let v = chip.read_register(a);
+                prop_assert_eq!(v, peeked, "{:02X}H read against peek", a);
+                if a & 0x3F != 0x27 {
+                    let after = format!("{chip:?}");
+                    prop_assert!(after == before, "a read of {:02X}H changed the chip", a);
+                }
+                if a & 0x3F == 3 {
+                    // 3H.0 INTFL0, 3H.3 INTFL1.
+                    prop_assert_eq!(chip.interrupt_requests(), (v & 1 != 0, v & 8 != 0));
+                }
                 let spec = register_spec(variant, a);
                 prop_assert_eq!(v & spec.unused(), 0, "unused bits of {:02X}H read 1", a);
                 if a == 0 {

@@ -14,7 +14,8 @@
 
 use corosensei::stack::DefaultStack;
 use corosensei::{Coroutine, CoroutineResult, Yielder};
-use sercon_regs::SerconBus;
+use sercon_regs::register::REGISTER_ADDRESS_MASK;
+use sercon_regs::{Register, SerconBus};
 use sercos_wire::time::Instant;
 
 use crate::host::{HostProgram, Wake};
@@ -59,9 +60,17 @@ impl Access {
         matches!(self, Access::WriteRegister(..))
     }
 
-    /// Whether it reads or writes a control register (410B §4.1), not the RAM.
-    pub(crate) fn is_register(self) -> bool {
-        matches!(self, Access::ReadRegister(_) | Access::WriteRegister(..))
+    /// Whether it may change the chip: a write, or a read of RFIFO, which takes a word
+    /// from the receive FIFO (410B §4.1 27H). Any other read leaves the chip as it was
+    /// (410B §4.1 registers, §4.2 the RAM through the host's port).
+    pub(crate) fn changes_chip(self) -> bool {
+        match self {
+            Access::ReadRegister(a) => {
+                Register::from_address(a & REGISTER_ADDRESS_MASK) == Some(Register::Fifo)
+            }
+            Access::ReadRam(_) => false,
+            Access::WriteRegister(..) | Access::WriteRam(..) => true,
+        }
     }
 }
 

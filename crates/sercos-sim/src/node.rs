@@ -4,7 +4,6 @@ use sercon_model::Chip;
 use sercon_model::pins::{Pin, PinSet};
 use sercon_model::serial_port::{LineSegment, LineSignal};
 use sercon_model::serial_settings::{TestMode, TxdOutput, test_mode, txd_outputs};
-use sercon_regs::SerconBus;
 use sercos_wire::time::Instant;
 
 use crate::clock::NodeClock;
@@ -260,7 +259,7 @@ impl Node {
         let mut bus = NodeBus::new(&mut self.chip, self.cfg.bus_access);
         self.host_deadline = self.host.wake(&mut bus, now, why);
         self.woke(why);
-        self.repeating = repeats(&mut self.chip);
+        self.repeating = repeats(&self.chip);
     }
 
     /// Why the host is to be woken now (an interrupt pin changed, its deadline passed),
@@ -334,8 +333,9 @@ impl Node {
 
     /// Whether INT0 or INT1 requests an interrupt now (410B §4.1 3H.0 INTFL0, 3H.3 INTFL1),
     /// whatever the pins' polarity.
-    fn interrupt_requested(&mut self) -> bool {
-        self.chip.read_register(3) & 0b1001 != 0
+    fn interrupt_requested(&self) -> bool {
+        let (int0, int1) = self.chip.interrupt_requests();
+        int0 || int1
     }
 
     /// The pins traced for the VCD.
@@ -346,9 +346,9 @@ impl Node {
 
 /// Whether `chip` forwards its input: 410B §4.1 1H.3 REPON = 1 with a TxD pin carrying
 /// transmit data (2H.0–6) and no test mode (2H TMODE, pins TM0/TM1).
-pub(crate) fn repeats(chip: &mut Chip) -> bool {
-    let r1 = chip.read_register(1);
-    let r2 = chip.read_register(2);
+pub(crate) fn repeats(chip: &Chip) -> bool {
+    let r1 = chip.peek_register(1);
+    let r2 = chip.peek_register(2);
     let cfg = chip.config();
     r1 & REPON != 0
         && txd_outputs(r2)

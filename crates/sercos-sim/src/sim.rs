@@ -1787,7 +1787,7 @@ impl Simulation {
                 );
                 debug_assert!(n.host_run.is_none(), "a host's wake left at power-on");
                 n.run_host(Wake::PowerOn);
-                n.repeating = repeats(&mut n.chip);
+                n.repeating = repeats(&n.chip);
                 self.touch(node);
                 // The fresh chip's first output (dark from its reset on) goes out now,
                 // before the replay below: on the fast path the replay puts the repeated

@@ -345,10 +345,18 @@ impl Chip {
         }
     }
 
-    /// The serial port's status bits for register reads: (RDIST, FIBBR, IDLE, REACTN).
-    pub(crate) fn serial_status(&self) -> (bool, bool, bool, bool) {
+    /// The receiver's status bits for a read of 2H: (RDIST, FIBBR) (410B §4.1 2H.12-13).
+    pub(crate) fn receiver_status(&self) -> (bool, bool) {
         let s: &SerialPort = &self.serial;
-        (s.rdist(), s.fibbr(), s.idle(), s.reactn())
+        (s.rdist(), s.fibbr())
+    }
+
+    /// The pin levels for a read of 3H: (IDLE, REACTN) (410B §4.1 3H.14-15). Each is found
+    /// among the quiet pin changes when no serial-port pin is traced, so a read of 2H,
+    /// which needs neither, does not ask for them.
+    pub(crate) fn serial_pin_status(&self) -> (bool, bool) {
+        let s: &SerialPort = &self.serial;
+        (s.idle(), s.reactn())
     }
 
     /// Whether a serial-port pin (IDLE, TxD, REACTN) is traced: then its level changes

@@ -77,6 +77,11 @@ impl DmaFifos {
         self.rx.pop_front().unwrap_or(0)
     }
 
+    /// The word a read of RFIFO would take now (0 when empty, as [`DmaFifos::read`]).
+    pub(crate) fn oldest(&self) -> u16 {
+        self.rx.front().copied().unwrap_or(0)
+    }
+
     /// A write of TFIFO (27H, or DMAACKTN = 0). Words beyond what the pending telegram
     /// needs are dropped (the FIFO only takes data while DMAREQT asks for it), so a
     /// runaway writer cannot grow the model without bound.

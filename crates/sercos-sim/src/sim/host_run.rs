@@ -14,7 +14,7 @@ use sercos_wire::time::{Duration, Instant};
 
 use super::Simulation;
 use crate::host::{IdleHost, Wake};
-use crate::host_coroutine::{Access, HostRun, HostStep};
+use crate::host_coroutine::{HostRun, HostStep};
 use crate::node::{MAX_HOST_WAKES, repeats};
 use crate::topology::Topology;
 
@@ -87,10 +87,11 @@ impl Simulation {
                         return true;
                     };
                     run.value = access.perform(&mut node.chip);
-                    // Only a register access can change INT0 / INT1 at once (410B §4.1 3H,
-                    // 4H–8H); a change of the chip's own comes at an event of its own,
-                    // where the node is served (`serve_host` notes it there).
-                    if access.is_register() {
+                    // Only a register write can change INT0 / INT1 at once (410B §4.1 4H–8H:
+                    // flags cleared, enables; 3H bits read only); a change of the chip's own
+                    // comes at an event of its own, where the node is served (`serve_host`
+                    // notes it there).
+                    if access.writes_register() {
                         node.note_pins();
                     }
                     let cost = node.cfg.bus_access;
@@ -101,7 +102,7 @@ impl Simulation {
                     // The access may have changed whether the chip repeats its input
                     // (410B §4.1 1H.3 REPON): the ring follows it from now on.
                     if access.writes_register() {
-                        node.repeating = repeats(&mut node.chip);
+                        node.repeating = repeats(&node.chip);
                     }
                     if self.access_is_quiet(j, target) {
                         if let Some(node) = self.nodes.get_mut(j) {
@@ -116,10 +117,10 @@ impl Simulation {
                     node.host_run = Some(run);
                     let until = node.clock.to_global(target);
                     self.resumes.push(std::cmp::Reverse((until, j)));
-                    // A read of the RAM leaves the chip as it was (410B §4.2: the host's
-                    // port); any other access may have changed what it does next: the node
-                    // is served again (its pins, its output, its wake).
-                    if !matches!(access, Access::ReadRam(_)) {
+                    // A read leaves the chip as it was (`Access::changes_chip`); any other
+                    // access may have changed what it does next: the node is served again
+                    // (its pins, its output, its wake).
+                    if access.changes_chip() {
                         self.touch(j);
                     }
                     self.stats.host_suspensions += 1;
@@ -128,7 +129,7 @@ impl Simulation {
                 HostStep::Done(host, deadline) => {
                     self.end_host_wake(j, *run, host, deadline);
                     if let Some(node) = self.nodes.get_mut(j) {
-                        node.repeating = repeats(&mut node.chip);
+                        node.repeating = repeats(&node.chip);
                     }
                     self.touch(j);
                     return true;
