@@ -97,8 +97,13 @@ impl CodedFrames {
         if this.is_none() {
             *this = Some(encode(telegram, presync, len, level)?);
         }
-        if other.is_none() {
-            *other = encode(telegram, presync, len, !level);
+        // NRZI from the other level gives every level the other way (410B §2 TxD: the
+        // coding depends only on the data and the level before the first bit), with the
+        // opening flag at the same offset: the twin is the bits inverted, not encoded again.
+        if other.is_none()
+            && let Some((bits, offset)) = this.as_ref()
+        {
+            *other = Some((Shared::new(bits.inverted()), *offset));
         }
         let (bits, offset) = this.clone()?;
         Some(Coded {
@@ -137,6 +142,21 @@ mod tests {
     fn reused_bits_equal_fresh_ones_at_both_levels() {
         let mut c = CodedFrames::default();
         let mst = [255u8, 4];
+        for presync in [false, true] {
+            let mut c = CodedFrames::default();
+            let (t, len) = c.lookup(&mst, presync);
+            for level in [true, false, true, false] {
+                let coded = c.coded(&t, presync, len, level).expect("encodable");
+                let (fresh, fresh_offset) = encode(&mst, presync, len, level).expect("encodable");
+                // Whichever level came first, the other's bits (inverted, not encoded)
+                // are the fresh encoding's.
+                assert_eq!(*coded.bits, *fresh, "presync {presync}, level {level}");
+                assert_eq!(coded.offset, fresh_offset);
+                let twin = coded.twin.expect("remembered");
+                let (other, _) = encode(&mst, presync, len, !level).expect("encodable");
+                assert_eq!(*twin, *other, "presync {presync}, level {level}");
+            }
+        }
         let (t, len) = c.lookup(&mst, false);
         for level in [false, true, false, true] {
             let coded = c.coded(&t, false, len, level).expect("encodable");
