@@ -11,7 +11,7 @@ use crate::settings::Settings;
 /// receive FIFO); any other read is [`peek`], and the chip's remembered next events stand.
 pub(crate) fn read(chip: &mut Chip, address: u8) -> u16 {
     let address = address & sercon_regs::register::REGISTER_ADDRESS_MASK;
-    if Register::from_address(address) != Some(Register::Fifo) {
+    if !sercon_regs::register::read_has_effect(address) {
         return peek(chip, address);
     }
     // 410B §4.1 27H RFIFO: a read takes the oldest word of the receive FIFO (DMAREQR may

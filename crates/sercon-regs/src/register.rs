@@ -181,6 +181,14 @@ registers! {
     Twdog = 0x2A, "TWDOG";
 }
 
+/// Whether a bus read of the register at word address `address` (A6-1 decoded) changes the
+/// chip: only a read of RFIFO (27H), which takes the oldest word of the receive FIFO (410B
+/// §4.1 27H). Every other read changes nothing (R/W bits read back, status bits show the
+/// chip's state, interrupt flags are cleared by writes, 4H–5H).
+pub const fn read_has_effect(address: u8) -> bool {
+    address & REGISTER_ADDRESS_MASK == Register::Fifo as u8
+}
+
 impl Register {
     /// The register's word address (A6-1).
     pub const fn address(self) -> u8 {

@@ -251,3 +251,19 @@ fn repon_after_reset() {
         assert_eq!(Variant::Sercon816.repon_after_reset(tm0, tm1), tm0 || tm1);
     }
 }
+
+/// 410B §4.1 27H: only a read of RFIFO changes the chip (it takes the oldest word of the
+/// receive FIFO); A6-1 decode the address, so 67H is 27H.
+#[test]
+fn only_a_read_of_rfifo_has_an_effect() {
+    use sercon_regs::register::read_has_effect;
+    for address in 0..=u8::MAX {
+        assert_eq!(
+            read_has_effect(address),
+            Register::from_address(address & 0x3F) == Some(Register::Fifo),
+            "{address:02X}H"
+        );
+    }
+    assert!(read_has_effect(0x27) && read_has_effect(0x67));
+    assert!(!read_has_effect(0x03) && !read_has_effect(0x04));
+}

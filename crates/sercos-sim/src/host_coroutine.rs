@@ -14,8 +14,8 @@
 
 use corosensei::stack::DefaultStack;
 use corosensei::{Coroutine, CoroutineResult, Yielder};
-use sercon_regs::register::REGISTER_ADDRESS_MASK;
-use sercon_regs::{Register, SerconBus};
+use sercon_regs::SerconBus;
+use sercon_regs::register::read_has_effect;
 use sercos_wire::time::Instant;
 
 use crate::host::{HostProgram, Wake};
@@ -65,9 +65,7 @@ impl Access {
     /// (410B §4.1 registers, §4.2 the RAM through the host's port).
     pub(crate) fn changes_chip(self) -> bool {
         match self {
-            Access::ReadRegister(a) => {
-                Register::from_address(a & REGISTER_ADDRESS_MASK) == Some(Register::Fifo)
-            }
+            Access::ReadRegister(a) => read_has_effect(a),
             Access::ReadRam(_) => false,
             Access::WriteRegister(..) | Access::WriteRam(..) => true,
         }
