@@ -276,8 +276,9 @@ impl Node {
                 int0: ints.0,
                 int1: ints.1,
             })
-        } else if self.rewake && self.interrupt_requested() {
-            self.rewake = false;
+        } else if std::mem::take(&mut self.rewake) && self.interrupt_requested() {
+            // Looked at once, when the wake has ended: a request that rises later changes a
+            // pin from what the host saw (the first case) if the pin shows it at all.
             self.rewaking = true;
             Some(Wake::Interrupt {
                 int0: ints.0,

@@ -82,3 +82,79 @@ fn a_flag_raised_after_the_last_read_still_wakes_the_host() {
     let chip = sim.chip_mut(0).expect("node 0");
     assert_eq!(chip.read_register(5) & TIME0_1, 0, "every flag served");
 }
+
+/// Programs TINT0 = 100 µs on INT0 (INT_TIME0 only); the first interrupt's handler clears
+/// the flag and switches the INT0 output off (3H.1 ENINT0 = 0), leaving INT_TIME0 enabled
+/// in 7H: from then on the flag rises every cycle with INT0 inactive.
+struct SwitchOff {
+    wakes: Rc<RefCell<Vec<Wake>>>,
+}
+
+impl HostProgram for SwitchOff {
+    fn wake(&mut self, bus: &mut dyn SerconBus, _now: Instant, why: Wake) -> Option<Instant> {
+        self.wakes.borrow_mut().push(why);
+        match why {
+            Wake::Start | Wake::PowerOn => {
+                bus.write(Register::MclkDiv, 31);
+                bus.write(Register::Tscyc0, 1000);
+                bus.write(Register::Tint0, 100);
+                bus.write(Register::En0IntHi, 1 << 9);
+                bus.write(Register::Ctrl3, 1 << 1);
+                bus.write(Register::Ctrl0C, 0x0403);
+            }
+            Wake::Interrupt { .. } => {
+                let flags = bus.read_register(5) & (1 << 9);
+                bus.write_register(5, flags);
+                bus.write(Register::Ctrl3, 0);
+            }
+            Wake::Deadline => {}
+        }
+        None
+    }
+}
+
+/// The extra wake after an interrupt is for a pin still active when the handler ends (410B
+/// §2 INT0 as a level): looked at once then. A flag that rises later while the output is
+/// switched off (3H.1 ENINT0 = 0) changes no pin, and a host wired to INT0 hears nothing of
+/// it. Before, the extra wake stayed pending until it found a request and woke the host for
+/// INT_TIME0 of a later cycle with INT0 inactive all along.
+#[test]
+fn a_flag_rising_later_behind_a_switched_off_output_wakes_nobody() {
+    let wakes = Rc::new(RefCell::new(Vec::new()));
+    let mut node = NodeConfig::new("master", ChipConfig::sercon816());
+    node.bus_access = Duration::from_nanos(100);
+    let cfg = SimConfig {
+        topology: Topology::ring(1, 10),
+        nodes: vec![node],
+        faults: Vec::new(),
+        seed: 1,
+        delivery: Default::default(),
+        traces: Default::default(),
+    };
+    let host = SwitchOff {
+        wakes: wakes.clone(),
+    };
+    let mut sim = Simulation::new(cfg, vec![Box::new(host)]).expect("one node");
+    sim.run_until(Instant::from_picos(3_500_000_000))
+        .expect("runs");
+    let wakes = wakes.borrow();
+    // Start; INT0 rises at 100 µs; it falls with the handler's clear and switch-off (a change
+    // of the pin while the host was at work: one more wake). Nothing after.
+    assert_eq!(
+        *wakes,
+        vec![
+            Wake::Start,
+            Wake::Interrupt {
+                int0: true,
+                int1: false
+            },
+            Wake::Interrupt {
+                int0: false,
+                int1: false
+            },
+        ],
+    );
+    // The flag did rise again in the later cycles (nobody cleared it).
+    let chip = sim.chip_mut(0).expect("node 0");
+    assert_eq!(chip.read_register(5) & (1 << 9), 1 << 9);
+}
