@@ -17,6 +17,39 @@ use sercos_wire::time::{Duration, Instant};
 /// 410B §4.1 5H.9 / 5H.10: INT_TIME0, INT_TIME1.
 const TIME0_1: u16 = 0b11 << 9;
 
+/// Programs a master's timing control: 1 ms cycles, TINT0 = 100 µs and, if given, TINT1,
+/// the 5H flags `en` on INT0 (410B §4.1: 0EH MCLKDIV, 32 MHz → 1 µs; 0FH TSCYC0; 1AH/1BH
+/// TINT0/1; 7H EN0 for 5H; 3H.1 ENINT0; 0CH MSTEN | MSTMASTER | CYCSTART).
+fn program_timer(bus: &mut dyn SerconBus, tint1: Option<u16>, en: u16) {
+    bus.write(Register::MclkDiv, 31);
+    bus.write(Register::Tscyc0, 1000);
+    bus.write(Register::Tint0, 100);
+    if let Some(t) = tint1 {
+        bus.write(Register::Tint1, t);
+    }
+    bus.write(Register::En0IntHi, en);
+    bus.write(Register::Ctrl3, 1 << 1);
+    bus.write(Register::Ctrl0C, 0x0403);
+}
+
+/// A ring of one master whose host is `host` (100 ns bus accesses), run for `us` µs.
+fn run_master(host: impl HostProgram + 'static, us: u64) -> Simulation {
+    let mut node = NodeConfig::new("master", ChipConfig::sercon816());
+    node.bus_access = Duration::from_nanos(100);
+    let cfg = SimConfig {
+        topology: Topology::ring(1, 10),
+        nodes: vec![node],
+        faults: Vec::new(),
+        seed: 1,
+        delivery: Default::default(),
+        traces: Default::default(),
+    };
+    let mut sim = Simulation::new(cfg, vec![Box::new(host)]).expect("one node");
+    sim.run_until(Instant::from_picos(us * 1_000_000))
+        .expect("runs");
+    sim
+}
+
 /// Programs a master timing control with TINT0 = 100 µs and TINT1 = 101 µs on INT0, and on
 /// each interrupt reads 5H, clears what it saw, then spends 3 µs on other bus accesses.
 struct Handler {
@@ -26,17 +59,7 @@ struct Handler {
 impl HostProgram for Handler {
     fn wake(&mut self, bus: &mut dyn SerconBus, _now: Instant, why: Wake) -> Option<Instant> {
         match why {
-            Wake::Start | Wake::PowerOn => {
-                // 410B §4.1: 0EH MCLKDIV (32 MHz → 1 µs), 0FH TSCYC0, 1AH/1BH TINT0/1,
-                // 7H EN0 for 5H, 3H.1 ENINT0, 0CH MSTEN | MSTMASTER | CYCSTART.
-                bus.write(Register::MclkDiv, 31);
-                bus.write(Register::Tscyc0, 1000);
-                bus.write(Register::Tint0, 100);
-                bus.write(Register::Tint1, 101);
-                bus.write(Register::En0IntHi, TIME0_1);
-                bus.write(Register::Ctrl3, 1 << 1);
-                bus.write(Register::Ctrl0C, 0x0403);
-            }
+            Wake::Start | Wake::PowerOn => program_timer(bus, Some(101), TIME0_1),
             Wake::Interrupt { .. } => {
                 let flags = bus.read_register(5) & TIME0_1;
                 self.seen.borrow_mut().push(flags);
@@ -54,20 +77,8 @@ impl HostProgram for Handler {
 #[test]
 fn a_flag_raised_after_the_last_read_still_wakes_the_host() {
     let seen = Rc::new(RefCell::new(Vec::new()));
-    let mut node = NodeConfig::new("master", ChipConfig::sercon816());
-    node.bus_access = Duration::from_nanos(100);
-    let cfg = SimConfig {
-        topology: Topology::ring(1, 10),
-        nodes: vec![node],
-        faults: Vec::new(),
-        seed: 1,
-        delivery: Default::default(),
-        traces: Default::default(),
-    };
     let host = Handler { seen: seen.clone() };
-    let mut sim = Simulation::new(cfg, vec![Box::new(host)]).expect("one node");
-    sim.run_until(Instant::from_picos(1_500_000_000))
-        .expect("runs");
+    let mut sim = run_master(host, 1500);
     let seen = seen.borrow();
     // Per cycle: TIME0 at 100 µs wakes the host; TIME1 rises at 101 µs while it is still busy
     // (INT0 stays active), and the extra wake picks it up.
@@ -94,14 +105,7 @@ impl HostProgram for SwitchOff {
     fn wake(&mut self, bus: &mut dyn SerconBus, _now: Instant, why: Wake) -> Option<Instant> {
         self.wakes.borrow_mut().push(why);
         match why {
-            Wake::Start | Wake::PowerOn => {
-                bus.write(Register::MclkDiv, 31);
-                bus.write(Register::Tscyc0, 1000);
-                bus.write(Register::Tint0, 100);
-                bus.write(Register::En0IntHi, 1 << 9);
-                bus.write(Register::Ctrl3, 1 << 1);
-                bus.write(Register::Ctrl0C, 0x0403);
-            }
+            Wake::Start | Wake::PowerOn => program_timer(bus, None, 1 << 9),
             Wake::Interrupt { .. } => {
                 let flags = bus.read_register(5) & (1 << 9);
                 bus.write_register(5, flags);
@@ -121,22 +125,10 @@ impl HostProgram for SwitchOff {
 #[test]
 fn a_flag_rising_later_behind_a_switched_off_output_wakes_nobody() {
     let wakes = Rc::new(RefCell::new(Vec::new()));
-    let mut node = NodeConfig::new("master", ChipConfig::sercon816());
-    node.bus_access = Duration::from_nanos(100);
-    let cfg = SimConfig {
-        topology: Topology::ring(1, 10),
-        nodes: vec![node],
-        faults: Vec::new(),
-        seed: 1,
-        delivery: Default::default(),
-        traces: Default::default(),
-    };
     let host = SwitchOff {
         wakes: wakes.clone(),
     };
-    let mut sim = Simulation::new(cfg, vec![Box::new(host)]).expect("one node");
-    sim.run_until(Instant::from_picos(3_500_000_000))
-        .expect("runs");
+    let mut sim = run_master(host, 3500);
     let wakes = wakes.borrow();
     // Start; INT0 rises at 100 µs; it falls with the handler's clear and switch-off (a change
     // of the pin while the host was at work: one more wake). Nothing after.
