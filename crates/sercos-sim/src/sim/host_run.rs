@@ -87,10 +87,11 @@ impl Simulation {
                         return true;
                     };
                     run.value = access.perform(&mut node.chip);
-                    // Only a register write can change INT0 / INT1 at once (410B §4.1 4H–8H:
-                    // flags cleared, enables; 3H bits read only); a change of the chip's own
-                    // comes at an event of its own, where the node is served (`serve_host`
-                    // notes it there).
+                    // Only a register write can change INT0 / INT1 at once (410B §4.1: 3H
+                    // ENINT0/1 and POLINT0/1, 4H–5H flags cleared, 6H–9H enables; a read
+                    // changes nothing but RFIFO, which moves no interrupt); a change of the
+                    // chip's own comes at an event of its own, where the node is served
+                    // (`serve_host` notes it there).
                     if access.writes_register() {
                         node.note_pins();
                     }
