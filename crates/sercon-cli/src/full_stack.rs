@@ -179,6 +179,9 @@ pub struct FullStackResult {
     pub phaseup_wall_s: f64,
     /// Simulation events per measured cycle.
     pub events_per_cycle: f64,
+    /// Host bus accesses per measured cycle during which the ring ran along, the price of
+    /// exact host timing (`SimStats::host_suspensions`; spec-notes "A host's bus time").
+    pub host_waits_per_cycle: f64,
     /// Peak resident memory of the process, MiB (`None` where `/proc` is missing).
     pub peak_rss_mib: Option<f64>,
 }
@@ -191,7 +194,7 @@ impl FullStackResult {
             .peak_rss_mib
             .map_or_else(|| "null".to_string(), |m| format!("{m:.1}"));
         format!(
-            "{{\"scenario\":\"{}\",\"stack\":\"full\",\"slaves\":{},\"bit_rate_mbit\":{},\"cycle_us\":{},\"phase\":{},\"sim_s\":{:.6},\"wall_s\":{:.6},\"rtf\":{:.3},\"wall_us_per_cycle\":{:.3},\"phaseup_sim_s\":{:.6},\"phaseup_wall_s\":{:.6},\"events_per_cycle\":{:.1},\"peak_rss_mib\":{}}}",
+            "{{\"scenario\":\"{}\",\"stack\":\"full\",\"slaves\":{},\"bit_rate_mbit\":{},\"cycle_us\":{},\"phase\":{},\"sim_s\":{:.6},\"wall_s\":{:.6},\"rtf\":{:.3},\"wall_us_per_cycle\":{:.3},\"phaseup_sim_s\":{:.6},\"phaseup_wall_s\":{:.6},\"events_per_cycle\":{:.1},\"host_waits_per_cycle\":{:.1},\"peak_rss_mib\":{}}}",
             self.scenario,
             self.slaves,
             self.bit_rate_mbit,
@@ -204,6 +207,7 @@ impl FullStackResult {
             self.phaseup_sim_s,
             self.phaseup_wall_s,
             self.events_per_cycle,
+            self.host_waits_per_cycle,
             rss
         )
     }
@@ -570,29 +574,32 @@ pub fn run(s: &FullStackScenario, sim: Duration) -> Result<FullStackResult, Full
     reset_peak_rss();
     let mut stack = RunningStack::start(s)?;
     let cycle_ps = stack.cycle.as_picos().max(1);
-    let (sim_s, wall_s, cycles, events) = match s.measure {
+    let counts = |st: sercos_sim::SimStats| (st.events, st.host_suspensions);
+    let (sim_s, wall_s, cycles, (events, waits)) = match s.measure {
         Measure::PhaseUp => {
             let cycles = stack.phaseup_sim.as_picos().div_ceil(cycle_ps);
-            let events = stack.ring.sim.stats().events;
             (
                 stack.phaseup_sim.as_secs_f64(),
                 stack.phaseup_wall_s,
                 cycles,
-                events,
+                counts(stack.ring.sim.stats()),
             )
         }
         Measure::Cyclic => {
             let cycles = (sim.as_picos() / cycle_ps).max(1);
-            let before = stack.ring.sim.stats().events;
+            let before = counts(stack.ring.sim.stats());
             let wall = WallInstant::now();
             stack.run_cycles(cycles)?;
             let wall_s = wall.elapsed().as_secs_f64();
-            let events = stack.ring.sim.stats().events.saturating_sub(before);
+            let after = counts(stack.ring.sim.stats());
             (
                 stack.cycle.saturating_mul(cycles).as_secs_f64(),
                 wall_s,
                 cycles,
-                events,
+                (
+                    after.0.saturating_sub(before.0),
+                    after.1.saturating_sub(before.1),
+                ),
             )
         }
     };
@@ -614,6 +621,7 @@ pub fn run(s: &FullStackScenario, sim: Duration) -> Result<FullStackResult, Full
         phaseup_sim_s: stack.phaseup_sim.as_secs_f64(),
         phaseup_wall_s: stack.phaseup_wall_s,
         events_per_cycle: events as f64 / per_cycle,
+        host_waits_per_cycle: waits as f64 / per_cycle,
         peak_rss_mib: peak_rss_mib(),
     })
 }
@@ -645,6 +653,7 @@ mod tests {
             phaseup_sim_s: 0.1,
             phaseup_wall_s: 0.05,
             events_per_cycle: 300.0,
+            host_waits_per_cycle: 60.0,
             peak_rss_mib: None,
         };
         let v: serde_json::Value = serde_json::from_str(&r.to_json()).expect("valid JSON");
@@ -661,6 +670,7 @@ mod tests {
         ] {
             assert!(v[field].is_number(), "{field} missing");
         }
+        assert_eq!(v["host_waits_per_cycle"], 60.0);
         assert!(v["peak_rss_mib"].is_null());
     }
 

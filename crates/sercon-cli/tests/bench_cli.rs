@@ -149,3 +149,30 @@ fn an_unknown_scenario_is_refused_with_the_names_there_are() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--stack full"));
 }
+
+/// A full-stack scenario's line: the ring fields, its phase-up and the host accesses that
+/// waited while the ring ran along (spec-notes "A host's bus time"): a master and a drive
+/// woken by the same telegrams work side by side, so some of their accesses wait every
+/// cycle.
+#[test]
+fn a_full_stack_line_carries_the_phase_up_and_the_host_waits() {
+    let v = one_json(&[
+        "bench",
+        "--stack",
+        "full",
+        "--scenario",
+        "stack-n1",
+        "--sim-ms",
+        "8",
+        "--json",
+    ]);
+    assert_eq!(v["scenario"], "stack-n1");
+    assert_eq!(v["stack"], "full");
+    assert_eq!(v["slaves"], 1);
+    assert_eq!(v["phase"], 4);
+    assert!(v["phaseup_sim_s"].as_f64().is_some_and(|s| s > 0.0));
+    let waits = v["host_waits_per_cycle"]
+        .as_f64()
+        .expect("host_waits_per_cycle");
+    assert!(waits > 0.0 && waits < 1000.0, "{waits}");
+}
