@@ -10,7 +10,6 @@ use crate::settings::Settings;
 /// Only a read of RFIFO changes the chip (410B §4.1 27H: it takes the oldest word of the
 /// receive FIFO); any other read is [`peek`], and the chip's remembered next events stand.
 pub(crate) fn read(chip: &mut Chip, address: u8) -> u16 {
-    let address = address & sercon_regs::register::REGISTER_ADDRESS_MASK;
     if !sercon_regs::register::read_has_effect(address) {
         return peek(chip, address);
     }

@@ -138,9 +138,10 @@ fn encode(telegram: &[u8], presync: bool, len: u64, level: bool) -> Option<(Shar
 mod tests {
     use super::*;
 
+    /// 410B §2 TxD (NRZI): the twin, made by inverting, equals a fresh encoding from the
+    /// other level, with and without the sync word, whichever level is asked for first.
     #[test]
-    fn reused_bits_equal_fresh_ones_at_both_levels() {
-        let mut c = CodedFrames::default();
+    fn a_twin_is_the_encoding_from_the_other_level() {
         let mst = [255u8, 4];
         for presync in [false, true] {
             let mut c = CodedFrames::default();
@@ -148,8 +149,6 @@ mod tests {
             for level in [true, false, true, false] {
                 let coded = c.coded(&t, presync, len, level).expect("encodable");
                 let (fresh, fresh_offset) = encode(&mst, presync, len, level).expect("encodable");
-                // Whichever level came first, the other's bits (inverted, not encoded)
-                // are the fresh encoding's.
                 assert_eq!(*coded.bits, *fresh, "presync {presync}, level {level}");
                 assert_eq!(coded.offset, fresh_offset);
                 let twin = coded.twin.expect("remembered");
@@ -157,6 +156,12 @@ mod tests {
                 assert_eq!(*twin, *other, "presync {presync}, level {level}");
             }
         }
+    }
+
+    #[test]
+    fn reused_bits_equal_fresh_ones_at_both_levels() {
+        let mut c = CodedFrames::default();
+        let mst = [255u8, 4];
         let (t, len) = c.lookup(&mst, false);
         for level in [false, true, false, true] {
             let coded = c.coded(&t, false, len, level).expect("encodable");

@@ -91,20 +91,18 @@ impl Simulation {
                     // ENINT0/1 and POLINT0/1, 4H–5H flags cleared, 6H–9H enables; a read
                     // changes nothing but RFIFO, which moves no interrupt); a change of the
                     // chip's own comes at an event of its own, where the node is served
-                    // (`serve_host` notes it there).
+                    // (`serve_host` notes it there). A write may also have changed whether
+                    // the chip repeats its input (410B §4.1 1H.3 REPON): the ring follows it
+                    // from now on.
                     if access.writes_register() {
                         node.note_pins();
+                        node.repeating = repeats(&node.chip);
                     }
                     let cost = node.cfg.bus_access;
                     if cost == Duration::ZERO {
                         continue;
                     }
                     let target = node.chip.now().saturating_add(cost);
-                    // The access may have changed whether the chip repeats its input
-                    // (410B §4.1 1H.3 REPON): the ring follows it from now on.
-                    if access.writes_register() {
-                        node.repeating = repeats(&node.chip);
-                    }
                     if self.access_is_quiet(j, target) {
                         if let Some(node) = self.nodes.get_mut(j) {
                             node.chip.advance_to(target);
