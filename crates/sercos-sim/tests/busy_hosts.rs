@@ -11,8 +11,8 @@
 mod ring_support;
 
 use ring_support::*;
+use sercos_sim::Delivery;
 use sercos_sim::static_ring::StaticRing;
-use sercos_sim::{Delivery, HostProgram};
 use sercos_wire::time::{BitRate, Duration};
 
 /// The text log and the late count of `ring` run for `cycles` cycles with hosts reading
@@ -22,16 +22,7 @@ fn run_with(ring: &StaticRing, accesses: u16, cycles: u64) -> (Vec<u8>, u64) {
     let cycle = Duration::from_micros(u64::from(ring.cycle_us));
     // 1.7 µs later in the cycle each time: the busy time sweeps MST, MDT and the ATs.
     let period = cycle.saturating_add(Duration::from_nanos(1_700));
-    let hosts: Vec<Box<dyn HostProgram>> = hosts
-        .into_iter()
-        .map(|inner| {
-            Box::new(ReadingHost {
-                inner,
-                period,
-                accesses,
-            }) as Box<dyn HostProgram>
-        })
-        .collect();
+    let hosts = reading_hosts(hosts, period, accesses);
     let (sim, out) = run(cfg, hosts, us(0) + cycle.saturating_mul(cycles));
     (out.log, sim.stats().late)
 }

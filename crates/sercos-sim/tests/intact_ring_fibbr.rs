@@ -11,7 +11,7 @@ use ring_support::*;
 use sercon_regs::value::interrupt::IntFlagsLo;
 use sercon_regs::{Register, SerconBusExt};
 use sercos_sim::static_ring::StaticRing;
-use sercos_sim::{Delivery, HostProgram, Simulation};
+use sercos_sim::{Delivery, Simulation};
 use sercos_wire::time::{BitRate, Duration};
 
 /// Bus accesses of one busy host run: 200 × 100 ns = 20 µs, as long as a driver's cycle work.
@@ -28,16 +28,7 @@ fn intact_ring_stays_lit(rate: BitRate, cycle_us: u16, delivery: Delivery, cycle
     let (cfg, hosts, _plan) = ring.build().expect("the ring fits");
     // Every host busy once a cycle, 3.3 µs later in the cycle each time (sweeps the cycle).
     let period = cycle.saturating_add(Duration::from_nanos(3_300));
-    let hosts: Vec<Box<dyn HostProgram>> = hosts
-        .into_iter()
-        .map(|inner| {
-            Box::new(ReadingHost {
-                inner,
-                period,
-                accesses: BUSY_ACCESSES,
-            }) as Box<dyn HostProgram>
-        })
-        .collect();
+    let hosts = reading_hosts(hosts, period, BUSY_ACCESSES);
     let mut sim = Simulation::new(cfg, hosts).expect("a valid ring");
     // Dark until the first signal arrives (spec-notes "Serial port"): FIBBR after reset.
     sim.run_until(us(0) + cycle.saturating_mul(4))

@@ -115,6 +115,25 @@ impl HostProgram for ReadingHost {
     }
 }
 
+/// Each of a static ring's `hosts` wrapped in a [`ReadingHost`] reading `accesses` words
+/// every `period`.
+pub fn reading_hosts(
+    hosts: Vec<Box<dyn HostProgram>>,
+    period: Duration,
+    accesses: u16,
+) -> Vec<Box<dyn HostProgram>> {
+    hosts
+        .into_iter()
+        .map(|inner| {
+            Box::new(ReadingHost {
+                inner,
+                period,
+                accesses,
+            }) as Box<dyn HostProgram>
+        })
+        .collect()
+}
+
 /// Every node's registers (0H–3FH) then RAM (2048 words), node 0 the master, as the fast path
 /// and the reference path are compared: a slave's 3H.15 REACTN left out (the fast path gives
 /// slaves no other slave's AT; spec-notes "Fast path = reference path", limit).
