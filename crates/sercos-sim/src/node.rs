@@ -85,6 +85,10 @@ pub(crate) struct Node {
     /// The pending wake is a placeholder at the chip's time (`Simulation::park`), not the
     /// node's next wake: a delivery before it runs the chip ahead as if there were none.
     pub(crate) parked: bool,
+    /// The pending wake was parked by a joined wake (`sim/join_wake.rs`) without moving the
+    /// queue's entry, which still holds the wake before: moved when the wake is next set,
+    /// or at the event's end (`Simulation::queue_joined_parks`).
+    pub(crate) park_unqueued: bool,
     /// Index in the VCD, if traced.
     pub(crate) vcd: Option<usize>,
     /// The host's wake under way, suspended in a bus access (`sim/host_run.rs`): it is not
@@ -243,6 +247,7 @@ impl Node {
             wake: None,
             ran_past: false,
             parked: false,
+            park_unqueued: false,
             vcd: None,
             host_run: None,
         }

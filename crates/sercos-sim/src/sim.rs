@@ -27,6 +27,7 @@ use crate::topology::Topology;
 mod bus;
 mod early_route;
 mod host_run;
+mod join_wake;
 #[cfg(test)]
 mod light_wake_tests;
 mod out_floors;
@@ -106,6 +107,10 @@ pub struct SimStats {
     /// order at every receiver). A ring whose telegrams keep clear of each other at every
     /// repeater has none.
     pub fast_path_collisions: u64,
+    /// Wakes of the master taken at once in the wake before, which sent its telegram round
+    /// the ring, rather than as events of their own (`sim/join_wake.rs`): each is one event
+    /// fewer in [`SimStats::events`].
+    pub joined_wakes: u64,
     /// Host bus accesses during which the ring ran along (the host's program waited for
     /// the access's end while other events were taken), not quiet ones that only moved the
     /// host's chip on (spec-notes "A host's bus time").
@@ -251,6 +256,9 @@ pub struct Simulation {
     /// once per pass of a telegram of the master (nothing reaches the master before the
     /// pass's last hop).
     master_next: Option<Option<Instant>>,
+    /// A wake was joined in this event and some slave's parked wake may not be in the
+    /// queue yet (`Node::park_unqueued`, `sim/join_wake.rs`).
+    joined_parks: bool,
 }
 
 /// A filler held back at a fibre's entrance (`Simulation::held_fillers`).
@@ -489,6 +497,7 @@ impl Simulation {
             cuts,
             held_fillers: Vec::new(),
             master_next: None,
+            joined_parks: false,
         };
         sim.start_hosts();
         sim.settle();
@@ -622,6 +631,9 @@ impl Simulation {
                 if self.wake_node(j, time)? {
                     // Served and rescheduled: one settle round is spent.
                     self.settle_rounds(1);
+                    if self.joined_parks {
+                        self.queue_joined_parks();
+                    }
                     return self.recorder.flush_before(self.now);
                 }
             }
@@ -629,6 +641,9 @@ impl Simulation {
             Ev::FaultEnd(i) => self.fault_end(i, time)?,
         }
         self.settle();
+        if self.joined_parks {
+            self.queue_joined_parks();
+        }
         self.recorder.flush_before(self.now)
     }
 
@@ -661,24 +676,40 @@ impl Simulation {
     /// due and no pin events are traced: such a wake only empties the receive log, takes the
     /// chip's output and sets its next wake, as `serve` would, without going through the
     /// touched list (nothing else waits to be served then, so the order is the same).
-    /// Returns whether it did so (`false`: the node is touched or not powered).
-    fn wake_node(&mut self, j: usize, t: Instant) -> Result<bool, SimError> {
+    /// The master's next wake is taken in the same call when it is the next event
+    /// (`sim/join_wake.rs`). Returns whether it did so (`false`: the node is touched or not
+    /// powered).
+    fn wake_node(&mut self, j: usize, mut t: Instant) -> Result<bool, SimError> {
         let quiet = self.light_wakes && self.touched.is_empty();
-        let Some(node) = self.nodes.get_mut(j) else {
-            return Ok(false);
-        };
-        if !node.powered {
-            return Ok(false);
+        loop {
+            let Some(node) = self.nodes.get_mut(j) else {
+                return Ok(false);
+            };
+            if !node.powered {
+                return Ok(false);
+            }
+            let local = node.clock.to_local(t);
+            node.chip.advance_to(local);
+            if !quiet || !node.quiet_host() {
+                self.touch(j);
+                return Ok(false);
+            }
+            // `serve_node` with nothing due but the output; `refresh_hop` would find what it
+            // found last (only hosts, power and clock faults change it, and they serve the
+            // node).
+            self.route_outputs(j);
+            // The master's next wake, when it is the next event (`sim/join_wake.rs`).
+            match j {
+                0 => match self.join_next_wake() {
+                    Some(m) => {
+                        self.now = m;
+                        t = m;
+                    }
+                    None => break,
+                },
+                _ => break,
+            }
         }
-        let local = node.clock.to_local(t);
-        node.chip.advance_to(local);
-        if !quiet || !node.quiet_host() {
-            self.touch(j);
-            return Ok(false);
-        }
-        // `serve_node` with nothing due but the output; `refresh_hop` would find what it
-        // found last (only hosts, power and clock faults change it, and they serve the node).
-        self.route_outputs(j);
         self.set_wake(j);
         // Its own output came back to it (the master's telegram round the ring), the last
         // node so left: its wake was just set after that input, so `set_rewakes` would
@@ -1551,6 +1582,7 @@ impl Simulation {
             return;
         };
         node.wake = wake;
+        node.park_unqueued = false;
         match wake {
             Some(g) => self.queue.set(j, g),
             None => self.queue.remove(j),
@@ -1567,13 +1599,29 @@ impl Simulation {
     /// runs the chip on (`deliver` takes a parked node's wake as none); then the wake is set
     /// again, parked or found. Returns whether it parked the node.
     fn park(&mut self, j: usize) -> bool {
-        let now = self.now;
+        let at = self.parks_at(j);
         let Some(node) = self.nodes.get_mut(j) else {
             return false;
         };
         node.parked = false;
-        if !std::mem::take(&mut node.ran_past) || !node.powered || node.host_deadline.is_some() {
+        node.ran_past = false;
+        let Some(g) = at else {
             return false;
+        };
+        node.wake = Some(g);
+        node.parked = true;
+        node.park_unqueued = false;
+        self.queue.park(j, g);
+        self.stats.parked_wakes += 1;
+        true
+    }
+
+    /// Where [`Simulation::park`] would set node `j`'s wake (simulation time); `None` when it
+    /// would not park it.
+    fn parks_at(&self, j: usize) -> Option<Instant> {
+        let node = self.nodes.get(j)?;
+        if !node.ran_past || !node.powered || node.host_deadline.is_some() {
+            return None;
         }
         let at = node.chip.now();
         // Output it still holds (its own telegram when not sent on with the others'): its
@@ -1582,10 +1630,7 @@ impl Simulation {
         // queued segment or resume, kept by the transmitter: no earlier than any start
         // `next_line_output_except` finds, 410B §1); then the walk of the queue is skipped
         // (debug builds walk it too and compare).
-        let held = |chip: &Chip| {
-            chip.next_line_output_except(std::iter::empty())
-                .is_some_and(|o| o < at)
-        };
+        let held = |chip: &Chip| chip.next_line_output_unexpected().is_some_and(|o| o < at);
         let nothing_before =
             self.short_paths && node.chip.next_line_output_at().is_none_or(|o| o >= at);
         debug_assert!(
@@ -1593,19 +1638,15 @@ impl Simulation {
             "the park short path missed output held before the chip's time"
         );
         if !nothing_before && held(&node.chip) {
-            return false;
+            return None;
         }
         let g = node.clock.to_global(at);
         // A run cut by the end of `run_until` (not by the master's telegram): its wake would
         // be served at that end for nothing.
-        if g <= now || g >= self.run_to {
-            return false;
+        if g <= self.now || g >= self.run_to {
+            return None;
         }
-        node.wake = Some(g);
-        node.parked = true;
-        self.queue.park(j, g);
-        self.stats.parked_wakes += 1;
-        true
+        Some(g)
     }
 
     /// Node `j`'s next wake as [`Simulation::set_wake`] sets it; `None` when the pending

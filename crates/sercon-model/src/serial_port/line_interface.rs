@@ -147,6 +147,20 @@ impl Chip {
         self.serial.next_output_at()
     }
 
+    /// [`Chip::next_line_output_except`] with nothing expected: the next own output, or the
+    /// next background segment the chip releases itself (not a copy the simulation carries,
+    /// [`Chip::set_forward_output`]); found without a walk of the queue when it holds only
+    /// such copies.
+    pub fn next_line_output_unexpected(&self) -> Option<Instant> {
+        let next = self.serial.next_uncarried_output_at();
+        debug_assert_eq!(
+            next,
+            self.next_line_output_except(std::iter::empty()),
+            "the next unexpected output"
+        );
+        next
+    }
+
     /// When the next output segment not yet given by [`Chip::take_line_output`] starts,
     /// leaving out queued background segments (what the repeater forwards, 410B §1 "The
     /// slaves regenerate and repeat their received data", 1H.3 REPON, and the filler or

@@ -367,6 +367,12 @@ impl SerialPort {
         self.tx.next_own_release_at()
     }
 
+    /// The next own output or background segment not carried
+    /// (`Transmitter::next_uncarried_release_at`).
+    pub(crate) fn next_uncarried_output_at(&self) -> Option<Instant> {
+        self.tx.next_uncarried_release_at()
+    }
+
     /// The one own telegram queued and nothing else (`Transmitter::sole_own`).
     pub(crate) fn sole_own_output(&self) -> Option<(Instant, Instant, Duration)> {
         self.tx.sole_own()

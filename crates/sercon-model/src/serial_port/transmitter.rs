@@ -303,6 +303,18 @@ impl Transmitter {
         Some((own.start, own.end(), own.bit_time))
     }
 
+    /// The earliest of [`Transmitter::next_own_release_at`] and the first of
+    /// [`Transmitter::background_starts`]: without a walk of the queue when every queued
+    /// background segment is carried (`uncarried`).
+    pub(crate) fn next_uncarried_release_at(&self) -> Option<Instant> {
+        debug_assert_eq!(self.uncarried, self.count_uncarried());
+        let own = self.next_own_release_at();
+        if self.uncarried == 0 {
+            return own;
+        }
+        earliest(own, self.background_starts().next())
+    }
+
     /// Starts of the queued background segments that will be released as output
     /// (forwarded input unless carried, filler), in order.
     pub(crate) fn background_starts(&self) -> impl Iterator<Item = Instant> + '_ {

@@ -181,6 +181,7 @@ fn same_run_stepped(
             runs_past_output: 0,
             ats_sent_on: 0,
             parked_wakes: 0,
+            joined_wakes: 0,
             ..ahead.stats
         },
         plain.stats,

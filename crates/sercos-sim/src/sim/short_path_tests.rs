@@ -47,20 +47,20 @@ impl HostProgram for Clearing {
 /// Runs `ring` with and without the short paths, in steps of [`STEP`] and in one run, logged
 /// and quiet, and asserts the same outcome; returns the quiet one-run counters.
 fn same_either_way(ring: &StaticRing, faults: &[Fault], until: Instant, what: &str) -> SimStats {
-    same_either_way_hosts(ring, faults, until, what, false)
+    same_either_way_hosts(ring, faults, until, what, 0..0)
 }
 
-/// [`same_either_way`], the slaves' hosts [`Clearing`] if `clearing`.
+/// [`same_either_way`], the hosts of the nodes in `clearing` [`Clearing`].
 fn same_either_way_hosts(
     ring: &StaticRing,
     faults: &[Fault],
     until: Instant,
     what: &str,
-    clearing: bool,
+    clearing: std::ops::Range<usize>,
 ) -> SimStats {
     let whole = until.saturating_duration_since(Instant::ZERO);
     let wrap = |i: usize, h: Box<dyn HostProgram>| -> Box<dyn HostProgram> {
-        if clearing && i > 0 {
+        if clearing.contains(&i) {
             Box::new(Clearing(h))
         } else {
             h
@@ -77,7 +77,14 @@ fn same_either_way_hosts(
             let (long, short) = (run(false), run(true));
             let what = format!("{what} ({watch:?}, steps of {step:?})");
             assert_eq!(long.log, short.log, "{what}: telegram log");
-            assert_eq!(long.stats, short.stats, "{what}: counters");
+            // A wake joined to the one before (`sim/join_wake.rs`) is one event fewer.
+            assert_eq!(long.stats.joined_wakes, 0, "{what}");
+            let joined = SimStats {
+                events: short.stats.events + short.stats.joined_wakes,
+                joined_wakes: 0,
+                ..short.stats
+            };
+            assert_eq!(long.stats, joined, "{what}: counters");
             assert_eq!(long.chips, short.chips, "{what}: registers and RAM");
             assert_eq!(long.steps, short.steps, "{what}: chips after every step");
             last = short.stats;
@@ -91,6 +98,8 @@ fn an_intact_ring_runs_the_same_without_the_short_paths() {
     let quiet = same_either_way(&six_slaves(), &[], us(1600), "6 slaves");
     // The ATs were sent on (the slaves then touched for nothing, `unserve_sent_on`).
     assert!(quiet.ats_sent_on >= 6 * 4, "{quiet:?}");
+    // The master's MDT was taken in the wake of its MST (`sim/join_wake.rs`).
+    assert!(quiet.joined_wakes >= 5, "{quiet:?}");
     let mut long = StaticRing::new(20, 2000);
     long.bit_rate = sercos_wire::time::BitRate::Mbit4;
     let quiet = same_either_way(&long, &[], us(10_000), "20 slaves at 4 Mbit/s");
@@ -99,8 +108,33 @@ fn an_intact_ring_runs_the_same_without_the_short_paths() {
 
 #[test]
 fn slaves_with_interrupts_run_the_same_without_the_short_paths() {
-    let quiet = same_either_way_hosts(&six_slaves(), &[], us(1600), "6 clearing slaves", true);
+    let quiet = same_either_way_hosts(
+        &six_slaves(),
+        &[],
+        us(1600),
+        "6 clearing slaves",
+        1..usize::MAX,
+    );
     assert!(quiet.ats_sent_on > 0, "{quiet:?}");
+}
+
+/// Fibres of no length: the master's telegram reaches the first slave at its start, whose
+/// run ahead then ends just before the master's next wake, and its wake comes first (the
+/// master's next wake is not joined, `sim/join_wake.rs`).
+#[test]
+fn fibres_of_no_length_run_the_same_without_the_short_paths() {
+    let mut ring = six_slaves();
+    ring.fibre_m = 0;
+    same_either_way(&ring, &[], us(1600), "6 slaves, no fibre length");
+}
+
+/// The master's host enables INT0 on its own telegrams' ends and clears the flags when woken
+/// for it (410B §4.1 6H INT_TEND, 3H ENINT0): its chip's next output bound is then its next
+/// internal event (`Chip::next_output_bound`), before its promised next telegram, and the
+/// wakes between must not be joined away (`sim/join_wake.rs`).
+#[test]
+fn a_master_with_interrupts_runs_the_same_without_the_short_paths() {
+    same_either_way_hosts(&six_slaves(), &[], us(1600), "a clearing master", 0..1);
 }
 
 #[test]

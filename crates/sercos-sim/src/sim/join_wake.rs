@@ -1,0 +1,131 @@
+//! The master's next wake taken in the wake that sent its telegram round the ring, rather
+//! than as an event of its own (`Simulation::wake_node`).
+//!
+//! On a ring of inert hosts the master's wake that sends a telegram ends with every slave
+//! run ahead to just before the master's next telegram reaches it (`Simulation::run_ahead`,
+//! up to the promise `Chip::next_output_for_any_input`, 410B §4.2.1 TRT: after the MST up to
+//! the MDT, after the MDT through the slave's AT up to the next MST), and with the wakes set:
+//! each slave's parked at its chip's time (`Simulation::park`), the master's at its next
+//! telegram's start. That wake is then the next event, and nothing happens before it: it is
+//! taken at once, in the same event (the simulation's time moved to it; the chip advanced,
+//! its output taken and sent round, the nodes served after, as that event would), when:
+//!
+//! * the ring is plain on the fast path and every host is inert (`plain_ring`,
+//!   `run_ahead_ok`): no fibre is traced and the master's telegram went round by
+//!   `propagate_master_plain`, so the pass recorded nothing, and no host's access ends
+//!   meanwhile (`resumes`: only a host that is not inert makes one);
+//! * the wake and its pass touched no node: every node waits only for its wake to be set
+//!   (`rewake` holds them all; nothing is left to serve);
+//! * the master's wake, as `set_wake` would set it, is its promised next output `m`
+//!   (`master_next`, found in the pass just made: only a pass of the master's telegram
+//!   gives every slave a segment on the fast path), after now and within the run
+//!   (`run_to`);
+//! * `park` would park every slave (it ran past its own output in this pass and holds no
+//!   output before its chip's time) at its chip's time, after `m`: the master's telegram
+//!   reaches it a fibre's delay and the repeaters' latency after its start (410B §1);
+//! * no fault event comes at or before `m` (at `m` it would come first).
+//!
+//! What the master receives before that wake (its MST come back round the ring; after the
+//! MDT, the MDT and the slaves' ATs, `early_route`) reached its chip in the pass just made,
+//! before the chip is advanced past it, as it did before: every chip is handed the same
+//! inputs and advanced to the same instants in the same order. The slaves' wakes are set as
+//! `park` sets them, but their queue entries are moved only when the wake is not set again
+//! within the event (the next pass does, `queue_joined_parks`): the queue hands out what it
+//! would have. Only the counters change: one event fewer for each wake so taken
+//! ([`SimStats::joined_wakes`](super::SimStats::joined_wakes)). Debug builds check that the
+//! queue as `set_rewakes` would leave it gives the master's wake at `m` next.
+
+use sercos_wire::time::Instant;
+
+#[cfg(debug_assertions)]
+use super::Ev;
+use super::{Delivery, Lookahead, NO_NODE, Simulation};
+
+impl Simulation {
+    /// At the end of the master's quiet wake (`wake_node`, its output sent on): the instant
+    /// of its next wake when that wake may be taken now (the module's conditions), the
+    /// slaves' wakes and the master's pending rewake set as the event's end would set them;
+    /// `None` and nothing changed otherwise.
+    pub(super) fn join_next_wake(&mut self) -> Option<Instant> {
+        let n = self.nodes.len();
+        let m = self.master_next??;
+        if !self.short_paths
+            || !self.run_ahead_ok
+            || !self.plain_ring
+            || self.delivery != Delivery::Fast
+            || self.lookahead != Lookahead::Events
+            || m <= self.now
+            || m > self.run_to
+            || !self.touched.is_empty()
+            || self.rewake_done != NO_NODE
+            || !self.resumes.is_empty()
+            || self.queue.peek_fault_time().is_some_and(|f| f <= m)
+            || self.rewake.len() != n
+        {
+            return None;
+        }
+        // Each slave's wake as `park` would set it: after `m`.
+        for j in 1..n {
+            if self.parks_at(j).is_none_or(|g| g <= m) {
+                return None;
+            }
+        }
+        debug_assert!(
+            self.deferred.is_empty(),
+            "ATs left to send on at a joined wake"
+        );
+        // The master's, as `set_wake` would set it (`park` leaves it: it never runs ahead).
+        if self.nodes.first().is_none_or(|mst| mst.ran_past) || self.next_wake(0) != Some(Some(m)) {
+            return None;
+        }
+        #[cfg(debug_assertions)]
+        {
+            // The queue as the event's end would leave it hands out the master's wake next.
+            let mut queue = self.queue.clone();
+            queue.set(0, m);
+            for j in (1..n).rev() {
+                if let Some(g) = self.parks_at(j) {
+                    queue.park(j, g);
+                }
+            }
+            debug_assert_eq!(
+                queue.pop_until(self.run_to),
+                Some((m, Ev::Node(0))),
+                "a joined wake is not the next event"
+            );
+        }
+        // The event's end (`set_rewakes`): the master's wake is the one taken now; each
+        // slave is parked at its chip's time as `park` parks it, its queue entry moved only
+        // if the wake is not set again before the event's end (`queue_joined_parks`).
+        self.rewake.clear();
+        if let Some(r) = self.is_rewake.get_mut(0) {
+            *r = false;
+        }
+        for (node, r) in self.nodes.iter_mut().zip(self.is_rewake.iter_mut()).skip(1) {
+            *r = false;
+            node.ran_past = false;
+            node.parked = true;
+            node.wake = Some(node.clock.to_global(node.chip.now()));
+            node.park_unqueued = true;
+        }
+        self.joined_parks = true;
+        self.stats.parked_wakes += n.saturating_sub(1) as u64;
+        self.stats.joined_wakes += 1;
+        Some(m)
+    }
+
+    /// At the end of an event that joined a wake: the slaves parked then whose wakes were
+    /// not set again are parked in the queue too, where `park` would have put them.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn queue_joined_parks(&mut self) {
+        self.joined_parks = false;
+        for (j, node) in self.nodes.iter_mut().enumerate() {
+            if std::mem::take(&mut node.park_unqueued)
+                && let Some(g) = node.wake
+            {
+                self.queue.park(j, g);
+            }
+        }
+    }
+}
