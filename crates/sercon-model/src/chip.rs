@@ -52,9 +52,11 @@ pub struct Chip {
     pub(crate) dma_trace: [(bool, Option<u64>); 2],
     /// The telegram-processor part of [`Chip::next_output_bound`] (the MCLK tick of the
     /// next possible own telegram or, for a master, cycle start), as last computed
-    /// (`Some`); `None` once an advance that processed anything, a bus access or a
-    /// received MST may have moved it. Other line inputs keep it: they only queue frames
-    /// the bound ignores (a slave's block starts with an MST, 410B §4.2.1 TRT) and
+    /// (`Some`, by [`Chip::next_output_bound`] or [`Chip::next_output_for_any_input`]);
+    /// `None` once an advance that processed anything, a bus access or an MST a SERCOS
+    /// slave received may have moved it. Other line inputs keep it: they only queue frames
+    /// the bound ignores (a slave's block starts with an MST, 410B §4.2.1 TRT; a master's or
+    /// a non-SERCOS chip's with its cycle start, 410B §4.1 0CH, whatever it receives) and
     /// serial-port changes, which the bound reads afresh. A simulation asks for the bound
     /// after every delivery; most deliveries then cost a load here instead of a walk.
     pub(crate) out_bound: std::cell::Cell<Option<Option<u64>>>,
@@ -513,16 +515,28 @@ impl Chip {
         {
             return None;
         }
+        self.tp.walk_held.set(false);
+        let tx = crate::telegram_processor::next_tx_bound(self);
+        // The same walk is the telegram-processor part of `Chip::next_output_bound` with
+        // the timing control's next tick (`output_bound_tick`, 410B §4.1 0CH: a non-slave's
+        // cycle start sends the MST or starts a block): remembered for it, as it remembers
+        // it (under the layout proof, found above; not a held walk's).
+        if self.out_bound.get().is_none() && !self.tp.walk_held.get() {
+            let engine = match self.engine.next_memo {
+                Some((next, _)) => next,
+                None => self.engine.next_tick(),
+            };
+            let bound = tx.into_iter().chain(engine).min();
+            debug_assert_eq!(bound, self.output_bound_tick(), "out_bound for any input");
+            self.out_bound.set(Some(bound));
+        }
         // 410B §4.1 0CH: the next cycle start sends the MST (the timing control's other
         // events in between only move pins).
-        let tick = crate::telegram_processor::next_tx_bound(self)
-            .into_iter()
-            .chain(self.engine.next_cycle_start())
-            .min();
+        let tick = tx.into_iter().chain(self.engine.next_cycle_start()).min();
         let own = tick.map_or(Instant::MAX, |k| self.clock.instant(k));
         // What it has queued, but for the filler its last telegram implies (it sends
         // nothing, `Chip::set_implied_filler`).
-        let queued = self.next_line_output_except(std::iter::empty());
+        let queued = self.next_line_output_unexpected();
         Some(queued.map_or(own, |q| own.min(q)))
     }
 

@@ -134,6 +134,52 @@ fn an_advance_before_the_output_keeps_the_walked_bound() {
     assert_eq!(pair[0].read_ram(29 + 7), 0x1000);
 }
 
+// 410B §4.2.1 TRT, §4.1 0CH: the bound remembered by `Chip::next_output_for_any_input` (a
+// master's, asked once per pass of its telegram) and by `Chip::next_output_bound` outlives
+// the line input that follows only where that input cannot move it: a master's MST coming
+// back round the ring leaves it (a master's block starts with its cycle start), a slave's
+// MST does not (its block starts with it). Each chip asks both after its advance; the other
+// chip's output then reaches it, and the bound it gives before its next advance is the one
+// found afresh (a host write of a word's own value drops what the chip remembered).
+#[test]
+fn a_bound_remembered_before_a_line_input_is_the_one_found_after_it() {
+    let shape = Shape::BENCH;
+    let mut pair = chips(shape);
+    let delay = Duration::from_nanos(shape.delay_ns);
+    let step = Duration::from_picos((delay.as_picos() / 2).max(1));
+    let until = Instant::ZERO + Duration::from_micros(600);
+    let last = pair[0].config().variant.ram_words() - 1;
+    let mut now = Instant::ZERO;
+    let mut buf = Vec::new();
+    let mut promised = [0; 2];
+    while now < until {
+        now = (now + step).min(until);
+        for i in 0..2 {
+            let c = &mut pair[i];
+            let mut fresh = c.clone();
+            let word = fresh.read_ram(last);
+            fresh.write_ram(last, word);
+            assert_eq!(
+                c.next_output_bound(),
+                fresh.next_output_bound(),
+                "chip {i} at {now:?}"
+            );
+            c.advance_to(now);
+            if c.next_output_for_any_input().is_some() {
+                promised[i] += 1;
+            }
+            let _ = c.next_output_bound();
+            c.take_line_output(&mut buf);
+            for seg in buf.drain(..) {
+                pair[1 - i].line_input(seg.delayed(delay));
+            }
+        }
+    }
+    assert!(promised[0] > 100 && promised[1] == 0, "{promised:?}");
+    // The slave answered: the master received its AT (the bench's check).
+    assert_eq!(pair[0].read_ram(29 + 7), 0x1000);
+}
+
 // 410B §4.2.1 TRT "after end of MST", §4.1 0AH PHAS0 / 0CH COMBLK0: a slave that has an
 // MST to process is bound by the first transmit header of the block that MST starts, not by
 // the MST's end: no bound lies at the end of an MST (the bound before it did), and some are

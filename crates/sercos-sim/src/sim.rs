@@ -1674,7 +1674,7 @@ impl Simulation {
                 // regenerate and repeat their received data"; `Chip::set_forward_output`):
                 // its own output and anything else it releases wake it.
                 cand(node.chip.next_output_bound());
-                cand(node.chip.next_line_output_except(std::iter::empty()));
+                cand(node.chip.next_line_output_unexpected());
             } else {
                 cand(general_wake(node, lookahead, exact));
             }

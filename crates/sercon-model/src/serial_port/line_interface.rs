@@ -37,12 +37,13 @@ impl Chip {
         let mut quiet = seg.start > now && self.next_core.is_some();
         // The telegram processor takes every frame the receiver saw (contract with tp), as
         // the receiver decodes it (no list in between: a frame is moved once).
-        let (clock, next_core, tp_next, tp, out_bound) = (
+        let (clock, next_core, tp_next, tp, out_bound, settings) = (
             &self.clock,
             &mut self.next_core,
             &mut self.tp_next,
             &mut self.tp,
             &self.out_bound,
+            &self.engine.s,
         );
         let at = seg.start;
         let mut early_report = false;
@@ -54,9 +55,10 @@ impl Chip {
                     crate::telegram_processor::early_start::take_report(tp, clock, tick, f);
                 return;
             }
-            if crate::telegram_processor::frame_is_mst(&f.bytes) {
+            if crate::telegram_processor::frame_is_mst(&f.bytes) && settings.is_sercos_slave() {
                 // A slave's block starts with the MST it receives (410B §4.2.1 TRT):
-                // the output bound is found afresh.
+                // the output bound is found afresh (a master's or a non-SERCOS chip's
+                // reads no MST it receives, `telegram_processor::next_tx_bound`).
                 out_bound.set(None);
             }
             let tick = clock.tick_at_or_after(f.start);

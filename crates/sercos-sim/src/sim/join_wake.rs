@@ -75,6 +75,10 @@ impl Simulation {
             "ATs left to send on at a joined wake"
         );
         // The master's, as `set_wake` would set it (`park` leaves it: it never runs ahead).
+        // Its output bound is a load here: `master_horizon`'s `next_output_for_any_input`
+        // remembered it in the chip, and the master's own telegram coming back round the
+        // ring keeps it (`Chip::out_bound`; 410B §4.1 0CH: its block starts with its cycle
+        // start, not with an MST it receives).
         if self.nodes.first().is_none_or(|mst| mst.ran_past) || self.next_wake(0) != Some(Some(m)) {
             return None;
         }
@@ -97,16 +101,24 @@ impl Simulation {
         // The event's end (`set_rewakes`): the master's wake is the one taken now; each
         // slave is parked at its chip's time as `park` parks it, its queue entry moved only
         // if the wake is not set again before the event's end (`queue_joined_parks`).
+        // Every node is in `rewake` (`rewake_done` is none), each once: all are marked.
+        debug_assert!(
+            self.is_rewake.iter().all(|r| *r),
+            "a node in rewake is not marked"
+        );
         self.rewake.clear();
-        if let Some(r) = self.is_rewake.get_mut(0) {
-            *r = false;
-        }
-        for (node, r) in self.nodes.iter_mut().zip(self.is_rewake.iter_mut()).skip(1) {
-            *r = false;
+        self.is_rewake.fill(false);
+        #[cfg(debug_assertions)]
+        let parks: Vec<Option<Instant>> = (0..n).map(|j| self.parks_at(j)).collect();
+        for node in self.nodes.iter_mut().skip(1) {
             node.ran_past = false;
             node.parked = true;
             node.wake = Some(node.clock.to_global(node.chip.now()));
             node.park_unqueued = true;
+        }
+        #[cfg(debug_assertions)]
+        for (j, node) in self.nodes.iter().enumerate().skip(1) {
+            debug_assert_eq!(parks.get(j).copied().flatten(), node.wake, "a joined park");
         }
         self.joined_parks = true;
         self.stats.parked_wakes += n.saturating_sub(1) as u64;
