@@ -41,7 +41,9 @@ pub struct BenchResult {
     pub wall_us_per_cycle: f64,
     /// Telegram bytes per cycle (MST, MDT, ATs).
     pub bytes_per_cycle: u64,
-    /// Simulation events per cycle.
+    /// Simulation events per cycle: those taken from the event queue. A master's wake taken
+    /// within the wake before it (`sim/join_wake.rs`, plain rings of inert hosts) is none,
+    /// so ring-8 and ring-254 run at 0.0 ([`crate::SimStats::joined_wakes`] counts those).
     pub events_per_cycle: f64,
     /// Segments handed to receivers per cycle.
     pub deliveries_per_cycle: f64,

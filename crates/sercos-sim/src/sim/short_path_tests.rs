@@ -106,6 +106,22 @@ fn an_intact_ring_runs_the_same_without_the_short_paths() {
     assert!(quiet.ats_sent_on >= 20 * 3, "{quiet:?}");
 }
 
+/// 410B §4.2.1 TRT: a slave whose AT lies between the MST and the MDT, the MDT close behind
+/// (one slave, one data word each way, the MDT after the AT: ≈ 11 µs after the MST's end).
+/// Its run ahead after the MST goes through its AT, which goes out at its time; no other
+/// test ring has an AT there on the quiet fast path (docs/performance.md, session 13
+/// "onepass": a check that told the MST's pass from the MDT's by the MDT's distance passed
+/// every other test).
+#[test]
+fn an_at_between_the_mst_and_a_close_mdt_runs_the_same_without_the_short_paths() {
+    let mut ring = StaticRing::new(1, 250);
+    ring.mdt_after_ats = true;
+    ring.mdt_words = 1;
+    ring.at_words = 1;
+    let quiet = same_either_way(&ring, &[], us(1600), "an AT before a close MDT");
+    assert!(quiet.ats_sent_on >= 4, "{quiet:?}");
+}
+
 #[test]
 fn slaves_with_interrupts_run_the_same_without_the_short_paths() {
     let quiet = same_either_way_hosts(
