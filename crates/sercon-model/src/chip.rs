@@ -67,6 +67,10 @@ pub struct Chip {
     pub(crate) layout: std::cell::Cell<Option<(bool, u8)>>,
     /// The words the walks read, as the layout proof found them.
     pub(crate) layout_read: std::cell::RefCell<crate::telegram_processor::RamWords>,
+    /// The number of the layout proof as it is (one more for every proof found or dropped,
+    /// [`Chip::set_layout`]): what the processor keeps under a proof is kept with its number
+    /// (`telegram_processor::walk_memo`).
+    pub(crate) layout_epoch: std::cell::Cell<u64>,
     /// [`Chip::advance_to`] takes a processor event right after the previous one when
     /// nothing lies between ([`Chip::set_chained_steps`]).
     pub(crate) chained_steps: bool,
@@ -109,6 +113,7 @@ impl Chip {
             out_bound: std::cell::Cell::new(None),
             layout: std::cell::Cell::new(None),
             layout_read: Default::default(),
+            layout_epoch: std::cell::Cell::new(0),
             chained_steps: true,
         }
     }
@@ -572,12 +577,20 @@ impl Chip {
             // Refused while a header the processor holds is not the RAM's: found afresh
             // until it is (spec-notes "The layout proof and the headers the processor
             // holds").
-            self.layout.set(None);
+            self.set_layout(None);
             return false;
         }
-        self.layout.set(Some((proof.holds, proved)));
+        self.set_layout(Some((proof.holds, proved)));
         *self.layout_read.borrow_mut() = proof.read;
         proof.holds
+    }
+
+    /// Sets the layout proof, found or dropped: every change gets a new number
+    /// ([`Chip::layout_epoch`]).
+    pub(crate) fn set_layout(&self, layout: Option<(bool, u8)>) {
+        self.layout.set(layout);
+        self.layout_epoch
+            .set(self.layout_epoch.get().wrapping_add(1));
     }
 
     /// The layout proof for the lists of `blocks` made afresh (debug builds check a kept
@@ -857,7 +870,7 @@ impl SerconBus for Chip {
         // The layout proof, made or refused, stands unless a word it read changed (a refusal
         // was decided by the words read up to it).
         if self.layout_read.borrow().any(u32::from(address & mask), 1) {
-            self.layout.set(None);
+            self.set_layout(None);
         }
         // A header ahead may have changed: the output bound's remembered walks go (the
         // processor's next tick does not read the RAM; found by fuzz target bus_sequence).

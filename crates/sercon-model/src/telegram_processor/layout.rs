@@ -68,6 +68,27 @@ impl RamWords {
         false
     }
 
+    /// Whether every word of `from .. from + len` is in the set (none outside the RAM is).
+    pub(crate) fn all(&self, from: u32, len: u32) -> bool {
+        let Some(end) = from.checked_add(len) else {
+            return false;
+        };
+        let mut w = from;
+        while w < end {
+            let Some(bits) = self.bits.get((w / 64) as usize) else {
+                return false;
+            };
+            let lo = w % 64;
+            let n = (end - w).min(64 - lo);
+            let m = mask(lo, n);
+            if bits & m != m {
+                return false;
+            }
+            w += n;
+        }
+        true
+    }
+
     /// Adds the words `from .. from + len` (those inside the RAM); `false` if any was in
     /// the set already.
     fn add(&mut self, from: u32, len: u32) -> bool {
@@ -337,5 +358,12 @@ mod tests {
         assert!(!w.any(4000, 10));
         assert!(!w.any(u32::MAX - 3, 10));
         assert!(w.add(u32::MAX - 3, 10));
+        assert!(w.all(128, 64));
+        assert!(w.all(60, 10));
+        assert!(!w.all(59, 2), "59 is not in the set");
+        assert!(!w.all(69, 2), "70 is not in the set");
+        assert!(w.all(100, 0));
+        assert!(!w.all(2047, 2), "2048 is outside the RAM");
+        assert!(!w.all(u32::MAX - 3, 10));
     }
 }

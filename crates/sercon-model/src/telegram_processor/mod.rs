@@ -24,6 +24,7 @@ mod receive;
 pub(crate) mod status;
 mod transmit;
 mod walk;
+mod walk_memo;
 
 use std::collections::VecDeque;
 
@@ -197,6 +198,8 @@ pub(crate) struct TelegramProcessor {
     pub(crate) record: Vec<u16>,
     /// The containers of one telegram (reused).
     pub(crate) containers: Vec<walk::Container>,
+    /// Container walks kept under the layout proof (`walk_memo`).
+    pub(crate) walk_memo: walk_memo::WalkMemo,
     /// The next transmit header ahead of the current receive header, remembered
     /// (`output_bound`).
     pub(crate) tx_ahead: std::cell::Cell<Option<output_bound::TxAhead>>,
@@ -632,7 +635,7 @@ pub(crate) fn start_block(chip: &mut Chip, tick: u64, block: u8) {
     if let Some((_, proved)) = chip.layout.get()
         && proved & (1 << (block & 1)) == 0
     {
-        chip.layout.set(None);
+        chip.set_layout(None);
     }
     chip.tp.block = Some(Block {
         block,

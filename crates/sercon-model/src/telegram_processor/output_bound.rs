@@ -207,7 +207,7 @@ fn refusal_written(chip: &Chip, from: u32, len: usize) {
         .borrow()
         .any(from, u32::try_from(len).unwrap_or(u32::MAX))
     {
-        chip.layout.set(None);
+        chip.set_layout(None);
     }
 }
 
@@ -218,7 +218,7 @@ pub(crate) fn ram_rewritten(chip: &Chip) {
     chip.tp.tx_ahead.set(None);
     chip.tp.walk_overwritten.set(true);
     if let Some((false, _)) = chip.layout.get() {
-        chip.layout.set(None);
+        chip.set_layout(None);
     }
 }
 

@@ -7,6 +7,7 @@ use sercon_regs::ram::header::{Buffering, HeaderKind, RxHeader};
 use super::status::{INT_NEWADR, INT_REND, INT_RERR, INT_RMISS, INT_RSTART, ProgErr};
 use super::transmit::raise_sc;
 use super::walk::{self, Containers};
+use super::walk_memo;
 use super::{Cur, RxNow, RxRole, advance, prog_error, reg25, set_flmdtadr};
 use crate::chip::Chip;
 use crate::service_container::{self, ScMode};
@@ -246,6 +247,13 @@ fn rscend(chip: &mut Chip) {
 /// of the data block within the telegram in number of words").
 fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
     let buffering = h.buffering();
+    if let Some(c) = walk_memo::kept(chip, at, HeaderKind::Receive, buffering) {
+        // Walked before under the layout proof that still stands: the same container, no
+        // walk error (`walk_memo`).
+        let ends = store_list(chip, h, bytes, std::slice::from_ref(&c));
+        store_errors(chip, None, ends);
+        return;
+    }
     let mut walk = Containers::new(&chip.ram, at, HeaderKind::Receive, buffering);
     // The usual telegram has one container (ERRATA "data containers", LASTDC = 1 on the
     // first): it is stored from here, without the reused list (docs/performance.md,
@@ -260,6 +268,14 @@ fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
                 Containers::new(&chip.ram, at, HeaderKind::Receive, buffering).collect();
             debug_assert_eq!(all.as_slice(), first.as_slice(), "one-container walk");
         }
+        walk_memo::keep(
+            chip,
+            at,
+            HeaderKind::Receive,
+            buffering,
+            first.as_slice(),
+            walk_error,
+        );
         let ends = store_list(chip, h, bytes, first.as_slice());
         store_errors(chip, walk_error, ends);
         return;

@@ -6,6 +6,7 @@ use sercon_regs::ram::header::{Buffering, HeaderKind, TxEnable, TxHeader};
 
 use super::status::{INT_TEND, INT_TSTART, ProgErr};
 use super::walk::{self, Containers};
+use super::walk_memo;
 use super::{Cur, advance, entmt, prog_error, reg25, set_flmdtadr};
 use crate::chip::Chip;
 use crate::service_container::{self, ScMode};
@@ -157,13 +158,25 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
     };
     let mut list = std::mem::take(&mut chip.tp.containers);
     list.clear();
-    let mut walk = Containers::new(&chip.ram, at, HeaderKind::Transmit, buffering);
-    // One push per container (`extend` takes the generic path for this iterator: a size
-    // hint and a capacity check per element).
-    for c in walk.by_ref() {
-        list.push(c);
-    }
-    let walk_error = walk.error;
+    let walk_error = match walk_memo::kept(chip, at, HeaderKind::Transmit, buffering) {
+        // Walked before under the layout proof that still stands: the same container, no
+        // walk error (`walk_memo`).
+        Some(c) => {
+            list.push(c);
+            None
+        }
+        None => {
+            let mut walk = Containers::new(&chip.ram, at, HeaderKind::Transmit, buffering);
+            // One push per container (`extend` takes the generic path for this iterator: a
+            // size hint and a capacity check per element).
+            for c in walk.by_ref() {
+                list.push(c);
+            }
+            let error = walk.error;
+            walk_memo::keep(chip, at, HeaderKind::Transmit, buffering, &list, error);
+            error
+        }
+    };
     for c in list.iter() {
         let len = usize::from(c.control.len);
         if buffering != Buffering::Dma && !c.control.svfl {

@@ -1,0 +1,75 @@
+//! Container walks kept under the layout proof (`telegram_processor::walk_memo`): a host
+//! write to a container's control words between two cycles (410B §4.2.2 LEN, POS) is what
+//! the telegrams stored and sent from then on follow, as in a run that never made the proof
+//! (debug builds also compare every kept walk with a fresh one).
+
+#[path = "../benches/support/pair_setup.rs"]
+mod pair_setup;
+
+use pair_setup::{Shape, chips};
+use sercon_model::Chip;
+use sercon_regs::ram::container::ContainerControl;
+use sercon_regs::{SerconBus, SerconBusExt};
+use sercos_wire::time::{Duration, Instant};
+
+/// Control word 0 of a container of `len` words, LASTDC = 1 (410B §4.2.2).
+fn control(len: u16) -> u16 {
+    ContainerControl::new(len, false, 0, false, true).map_or(0, |c| c.to_word())
+}
+
+/// Runs the bench pair to `until` in steps of half the fibre delay, asking each chip's
+/// output bound before every step when `ask` (which makes the layout proof the kept walks
+/// rest on), with `write` done by the hosts at `at`. Returns the RAM's first 64 words of
+/// both chips.
+fn run(ask: bool, at: Instant, until: Instant, write: fn(&mut [Chip; 2])) -> [Vec<u16>; 2] {
+    let shape = Shape::BENCH;
+    let mut pair = chips(shape);
+    let delay = Duration::from_nanos(shape.delay_ns);
+    let step = Duration::from_picos((delay.as_picos() / 2).max(1));
+    let mut now = Instant::ZERO;
+    let mut written = false;
+    let mut buf = Vec::new();
+    while now < until {
+        now = (now + step).min(until);
+        if !written && now >= at {
+            write(&mut pair);
+            written = true;
+        }
+        for i in 0..2 {
+            if ask {
+                let _ = pair[i].next_output_bound();
+            }
+            pair[i].advance_to(now);
+            pair[i].take_line_output(&mut buf);
+            for seg in buf.drain(..) {
+                pair[1 - i].line_input(seg.delayed(delay));
+            }
+        }
+    }
+    pair.map(|mut c| (0..64).map(|a| c.read_ram(a)).collect())
+}
+
+// 410B §4.2.2 LEN, POS: the slave's MDT container (control words 21, 22) and the master's
+// AT container (34, 35) move within their telegrams, the slave's AT container (35) gets
+// shorter (the rest of its telegram is sent as 0, 410B §4.2.1 TLEN), after several cycles
+// stored and sent with the walks kept.
+#[test]
+fn a_host_write_to_the_containers_is_followed_by_the_kept_walks() {
+    let at = Instant::ZERO + Duration::from_micros(300);
+    let until = Instant::ZERO + Duration::from_micros(700);
+    let write = |pair: &mut [Chip; 2]| {
+        let [m, s] = pair;
+        s.write_ram_words(21, &[control(4), 2]);
+        s.write_ram(35, control(4));
+        m.write_ram_words(34, &[control(5), 3]);
+    };
+    let kept = run(true, at, until, write);
+    let plain = run(false, at, until, write);
+    assert_eq!(kept, plain);
+    let [m, s] = &kept;
+    // The slave stored MDT words 2..6 (the master sends 0xF000 + i) from word 23 on.
+    assert_eq!(s[23..27], [0xF002, 0xF003, 0xF004, 0xF005]);
+    // The master stored AT words 3..8 (0x1003, then the zeros past the slave's 4 words)
+    // from word 36 on.
+    assert_eq!(m[36..41], [0x1003, 0, 0, 0, 0]);
+}
