@@ -156,7 +156,7 @@ impl Chip {
                     if quiet != u64::MAX && self.clock.instant(quiet) <= t {
                         self.engine.end_quietly(quiet);
                     }
-                    self.apply_quiet_events(None);
+                    self.apply_quiet_events();
                     return;
                 }
             }
@@ -181,21 +181,24 @@ impl Chip {
                 // The serial port's changes (exact instants) go before MCLK ticks at or
                 // after them. They do not move the engine's or the processor's next tick,
                 // so all of them before those ticks are applied in one go.
-                let bound = match (engine_tick, tp_tick) {
-                    (Some(e), Some(k)) => e.min(k),
-                    (e, k) => e.or(k).unwrap_or(u64::MAX),
-                };
-                // tick_at_or_after(a) <= bound  <=>  a <= instant(bound): no division per
-                // check.
-                // No tick due (the loop's last turn): up to `t`, without the product.
-                let bound_at = if bound == u64::MAX {
-                    t
-                } else {
-                    self.clock.instant(bound).min(t)
-                };
-                while self.serial_next_loud_event().is_some_and(|a| a <= bound_at)
-                    && self.serial_step(t)
-                {}
+                // Their bound is found only when there is one (mostly none).
+                if self.serial_next_loud_event().is_some() {
+                    let bound = match (engine_tick, tp_tick) {
+                        (Some(e), Some(k)) => e.min(k),
+                        (e, k) => e.or(k).unwrap_or(u64::MAX),
+                    };
+                    // tick_at_or_after(a) <= bound  <=>  a <= instant(bound): no division
+                    // per check.
+                    // No tick due (the loop's last turn): up to `t`, without the product.
+                    let bound_at = if bound == u64::MAX {
+                        t
+                    } else {
+                        self.clock.instant(bound).min(t)
+                    };
+                    while self.serial_next_loud_event().is_some_and(|a| a <= bound_at)
+                        && self.serial_step(t)
+                    {}
+                }
                 match (engine_tick, tp_tick) {
                     (Some(e), tp) if tp.is_none_or(|k| e <= k) => {
                         let step = self.engine.step_tick(e);
@@ -260,6 +263,22 @@ impl Chip {
                         } else {
                             debug_assert_eq!(self.engine.levels, self.engine.compute_levels());
                         }
+                        // Neither the processor nor the timing control has a tick due by
+                        // `limit` (the usual end of an advance): the next turn would only
+                        // apply the serial port's changes up to `t` and end; done here,
+                        // without that turn (the timing control's next ticks and quiet cycle
+                        // end found as that turn finds them first, memoised for it
+                        // otherwise; spec-notes "Quiet cycle ends").
+                        let (engine_next, q) = self.engine.next_ticks_memo();
+                        if engine_next.is_none_or(|e| e > limit)
+                            && tp_next.is_none_or(|k| k > limit)
+                        {
+                            quiet = q;
+                            while self.serial_next_loud_event().is_some_and(|a| a <= t)
+                                && self.serial_step(t)
+                            {}
+                            break (engine_next, tp_next);
+                        }
                     }
                     // Nothing changed since both were computed.
                     _ => break (engine_next, tp_next),
@@ -279,7 +298,15 @@ impl Chip {
             self.next_core = Some(core);
             self.tp_next = Some(next_ticks.1);
             self.now = t;
-            self.apply_quiet_events(Some(limit));
+            // The quiet events due by `limit` (spec-notes "Events nobody sees at once"), as
+            // `Chip::apply_quiet_events` applies them but without asking `has_quiet_events`
+            // first: with none pending this applies none.
+            let pending =
+                cfg!(debug_assertions) && crate::telegram_processor::has_quiet_events(self);
+            if crate::telegram_processor::apply_quiet_events(self, limit) {
+                debug_assert!(pending, "a quiet event applied that was not pending");
+                self.quiet_events_applied();
+            }
         }
         self.now = t;
     }
@@ -407,18 +434,22 @@ impl Chip {
     /// of every advance: whatever comes next (a bus access, a reset, a line input or a
     /// CYC_CLK edge at a tick the chip has reached) finds the state these events leave, as
     /// when they are events.
-    /// `limit`: the last MCLK tick at or before now, when the caller has it.
-    fn apply_quiet_events(&mut self, limit: Option<u64>) {
+    /// (The end of [`Chip::advance_to`]'s loop applies them itself, with its last tick.)
+    fn apply_quiet_events(&mut self) {
         if self.in_reset || !crate::telegram_processor::has_quiet_events(self) {
             return;
         }
-        let tick = limit.unwrap_or_else(|| self.clock.tick_at_or_before(self.now));
+        let tick = self.clock.tick_at_or_before(self.now);
         if crate::telegram_processor::apply_quiet_events(self, tick) {
-            // The processor's next tick stands (these were not in it), the output bound's
-            // walks may not (the block may have ended).
-            self.out_bound.set(None);
-            self.tp.tx_ahead.set(None);
+            self.quiet_events_applied();
         }
+    }
+
+    /// After quiet events were applied: the processor's next tick stands (they were not in
+    /// it), the output bound's walks may not (the block may have ended).
+    fn quiet_events_applied(&mut self) {
+        self.out_bound.set(None);
+        self.tp.tx_ahead.set(None);
     }
 
     /// The earliest instant after which the chip may change on its own (without a line

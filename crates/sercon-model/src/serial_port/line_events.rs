@@ -286,6 +286,40 @@ impl LineEvents {
         }
     }
 
+    /// [`LineEvents::apply_quiet_pins`] when the pins are quiet and their list is not long
+    /// enough to be folded (every advance of a chip ends with it): only the instant the
+    /// changes count up to moves to `t`, the levels (`levels`, IDLE and REACTN) stand.
+    /// Returns whether it applied; `false` leaves everything as it was, for the full
+    /// application. Debug builds run the full application on a copy and compare.
+    #[inline]
+    pub(crate) fn apply_quiet_pins_unfolded(&mut self, t: Instant, levels: (bool, bool)) -> bool {
+        if self.pins_loud || self.quiet.folds() {
+            return false;
+        }
+        #[cfg(debug_assertions)]
+        let full = {
+            let mut full = self.quiet.clone();
+            let mut l = levels;
+            full.apply(t, &mut l);
+            (full, l)
+        };
+        #[cfg(not(debug_assertions))]
+        let _ = levels;
+        self.quiet.apply_folds(t);
+        #[cfg(debug_assertions)]
+        {
+            let mut b = *self.shadow.1.get_or_insert(levels);
+            self.shadow.0.apply(t, &mut b);
+            self.shadow.1 = Some(b);
+            self.check_quiet(levels);
+            debug_assert!(
+                full.0 == self.quiet && full.1 == levels,
+                "quiet pins applied without a fold"
+            );
+        }
+        true
+    }
+
     /// Keeps IDLE / REACTN changes in time order from now on (`loud`) or not; `levels`
     /// (IDLE, REACTN) are then the levels as applied, with every kept change after them.
     pub(crate) fn set_pins_loud(&mut self, loud: bool, levels: &mut (bool, bool)) {

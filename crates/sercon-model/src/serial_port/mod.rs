@@ -421,7 +421,22 @@ impl SerialPort {
     }
 
     /// Applies the IDLE / REACTN changes at or before `t` (pin levels only).
+    #[inline]
     pub(crate) fn apply_pin_levels(&mut self, t: Instant) {
+        // Quiet with a short list (every advance of a chip ends here): only the instant the
+        // quiet changes count up to moves, the levels stand.
+        if !self
+            .events
+            .apply_quiet_pins_unfolded(t, (self.idle, self.reactn))
+        {
+            self.apply_pin_levels_in_full(t);
+        }
+    }
+
+    /// [`SerialPort::apply_pin_levels`] when the pins are loud or the quiet changes are
+    /// folded.
+    #[inline(never)]
+    fn apply_pin_levels_in_full(&mut self, t: Instant) {
         // Quiet: the changes up to `t` count from now on (`SerialPort::idle`).
         self.apply_quiet_pins(t);
         if !self.events.pins_loud() {

@@ -34,7 +34,7 @@ impl PinLine {
 /// Quiet IDLE / REACTN changes. The changes up to `applied` (the instant the port has applied
 /// its pin levels to) count, the later ones wait; the levels before every change kept are
 /// the caller's (`base`, `levels`).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub(crate) struct QuietPins {
     /// The changes in the order they were scheduled.
     changes: Vec<(Instant, Change)>,
@@ -172,6 +172,12 @@ impl QuietPins {
     #[inline]
     pub(crate) fn apply_folds(&mut self, t: Instant) -> bool {
         self.applied = self.applied.max(t);
+        self.folds()
+    }
+
+    /// Whether the list has grown long enough to be folded at its next application.
+    #[inline]
+    pub(crate) fn folds(&self) -> bool {
         self.changes.len() >= self.trim_len.max(MIN_TRIM_LEN)
     }
 
