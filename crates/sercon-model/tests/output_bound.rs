@@ -90,12 +90,9 @@ fn the_bench_pair_keeps_its_promises_and_saves_wakes() {
     assert_eq!(pair[0].read_ram(29 + 7), 0x1000);
 }
 
-// 410B §4.2.1 TRT: an advance that stops before the chip's next possible own telegram
-// (`Chip::advance_before_output`, a simulation running a chip ahead between its inputs)
-// keeps the bound it had; that bound is the one the chip walks for afresh after a plain
-// advance to the same instant, and the chip is left as that advance leaves it.
-#[test]
-fn an_advance_before_the_output_keeps_the_walked_bound() {
+/// Steps the bench pair at half the fibre's delay for 600 µs: `visit` advances chip `i` to
+/// `now` (and checks what it will), then its output reaches the other chip.
+fn step_bench_pair(mut visit: impl FnMut(&mut Chip, usize, Instant)) -> [Chip; 2] {
     let shape = Shape::BENCH;
     let mut pair = chips(shape);
     let delay = Duration::from_nanos(shape.delay_ns);
@@ -103,32 +100,44 @@ fn an_advance_before_the_output_keeps_the_walked_bound() {
     let until = Instant::ZERO + Duration::from_micros(600);
     let mut now = Instant::ZERO;
     let mut buf = Vec::new();
-    let mut kept = 0;
     while now < until {
         now = (now + step).min(until);
         for i in 0..2 {
             let c = &mut pair[i];
-            if c.next_output_bound().is_some_and(|b| b > now) {
-                let mut plain = c.clone();
-                plain.advance_to(now);
-                c.advance_before_output(now);
-                assert_eq!(
-                    c.next_output_bound(),
-                    plain.next_output_bound(),
-                    "at {now:?}"
-                );
-                assert_eq!(c.next_internal_event_at(), plain.next_internal_event_at());
-                assert_eq!(c.read_register(3), plain.read_register(3));
-                kept += 1;
-            } else {
-                c.advance_to(now);
-            }
+            visit(c, i, now);
             c.take_line_output(&mut buf);
             for seg in buf.drain(..) {
                 pair[1 - i].line_input(seg.delayed(delay));
             }
         }
     }
+    pair
+}
+
+// 410B §4.2.1 TRT: an advance that stops before the chip's next possible own telegram
+// (`Chip::advance_before_output`, a simulation running a chip ahead between its inputs)
+// keeps the bound it had; that bound is the one the chip walks for afresh after a plain
+// advance to the same instant, and the chip is left as that advance leaves it.
+#[test]
+fn an_advance_before_the_output_keeps_the_walked_bound() {
+    let mut kept = 0;
+    let mut pair = step_bench_pair(|c, _, now| {
+        if c.next_output_bound().is_some_and(|b| b > now) {
+            let mut plain = c.clone();
+            plain.advance_to(now);
+            c.advance_before_output(now);
+            assert_eq!(
+                c.next_output_bound(),
+                plain.next_output_bound(),
+                "at {now:?}"
+            );
+            assert_eq!(c.next_internal_event_at(), plain.next_internal_event_at());
+            assert_eq!(c.read_register(3), plain.read_register(3));
+            kept += 1;
+        } else {
+            c.advance_to(now);
+        }
+    });
     assert!(kept > 100, "{kept} advances before the output");
     // The slave answered: the master received its AT (the bench's check).
     assert_eq!(pair[0].read_ram(29 + 7), 0x1000);
@@ -143,38 +152,23 @@ fn an_advance_before_the_output_keeps_the_walked_bound() {
 // found afresh (a host write of a word's own value drops what the chip remembered).
 #[test]
 fn a_bound_remembered_before_a_line_input_is_the_one_found_after_it() {
-    let shape = Shape::BENCH;
-    let mut pair = chips(shape);
-    let delay = Duration::from_nanos(shape.delay_ns);
-    let step = Duration::from_picos((delay.as_picos() / 2).max(1));
-    let until = Instant::ZERO + Duration::from_micros(600);
-    let last = pair[0].config().variant.ram_words() - 1;
-    let mut now = Instant::ZERO;
-    let mut buf = Vec::new();
     let mut promised = [0; 2];
-    while now < until {
-        now = (now + step).min(until);
-        for i in 0..2 {
-            let c = &mut pair[i];
-            let mut fresh = c.clone();
-            let word = fresh.read_ram(last);
-            fresh.write_ram(last, word);
-            assert_eq!(
-                c.next_output_bound(),
-                fresh.next_output_bound(),
-                "chip {i} at {now:?}"
-            );
-            c.advance_to(now);
-            if c.next_output_for_any_input().is_some() {
-                promised[i] += 1;
-            }
-            let _ = c.next_output_bound();
-            c.take_line_output(&mut buf);
-            for seg in buf.drain(..) {
-                pair[1 - i].line_input(seg.delayed(delay));
-            }
+    let mut pair = step_bench_pair(|c, i, now| {
+        let last = c.config().variant.ram_words() - 1;
+        let mut fresh = c.clone();
+        let word = fresh.read_ram(last);
+        fresh.write_ram(last, word);
+        assert_eq!(
+            c.next_output_bound(),
+            fresh.next_output_bound(),
+            "chip {i} at {now:?}"
+        );
+        c.advance_to(now);
+        if c.next_output_for_any_input().is_some() {
+            promised[i] += 1;
         }
-    }
+        let _ = c.next_output_bound();
+    });
     assert!(promised[0] > 100 && promised[1] == 0, "{promised:?}");
     // The slave answered: the master received its AT (the bench's check).
     assert_eq!(pair[0].read_ram(29 + 7), 0x1000);

@@ -53,19 +53,9 @@ impl RamWords {
     /// Whether any word of `from .. from + len` is in the set.
     pub(crate) fn any(&self, from: u32, len: u32) -> bool {
         let end = from.saturating_add(len);
-        let mut w = from;
-        while w < end {
-            let Some(bits) = self.bits.get((w / 64) as usize) else {
-                return false;
-            };
-            let lo = w % 64;
-            let n = (end - w).min(64 - lo);
-            if bits & mask(lo, n) != 0 {
-                return true;
-            }
-            w += n;
-        }
-        false
+        self.chunks(from, end)
+            .map_while(|chunk| chunk)
+            .any(|(bits, m)| bits & m != 0)
     }
 
     /// Whether every word of `from .. from + len` is in the set (none outside the RAM is).
@@ -73,20 +63,24 @@ impl RamWords {
         let Some(end) = from.checked_add(len) else {
             return false;
         };
+        self.chunks(from, end)
+            .all(|chunk| chunk.is_some_and(|(bits, m)| bits & m == m))
+    }
+
+    /// The words `from .. end` a set word at a time: its bits and the mask of the words in
+    /// range; `None` for one outside the RAM (the last item then).
+    fn chunks(&self, from: u32, end: u32) -> impl Iterator<Item = Option<(u64, u64)>> + '_ {
         let mut w = from;
-        while w < end {
-            let Some(bits) = self.bits.get((w / 64) as usize) else {
-                return false;
-            };
+        std::iter::from_fn(move || {
+            if w >= end {
+                return None;
+            }
             let lo = w % 64;
             let n = (end - w).min(64 - lo);
-            let m = mask(lo, n);
-            if bits & m != m {
-                return false;
-            }
-            w += n;
-        }
-        true
+            let bits = self.bits.get((w / 64) as usize).copied();
+            w = if bits.is_some() { w + n } else { end };
+            Some(bits.map(|b| (b, mask(lo, n))))
+        })
     }
 
     /// Adds the words `from .. from + len` (those inside the RAM); `false` if any was in
