@@ -221,8 +221,8 @@ impl Chip {
                         // processor's next tick stands.
                     }
                     (_, Some(first)) => {
-                        let fifo = self.tp.fifo.state();
-                        let flags = self.engine.flags;
+                        let fifo = self.tp.fifo.snapshot();
+                        let flags = self.engine.flags.word();
                         let mut k = first;
                         loop {
                             if k >= quiet && quiet != u64::MAX {
@@ -243,8 +243,8 @@ impl Chip {
                             }
                         }
                         // Most steps leave the FIFOs alone, with no DMA pin traced: no call.
-                        if self.tp.fifo.state() != fifo || self.dma_pins_traced() {
-                            self.dma_changed(fifo, k);
+                        if !self.tp.fifo.unchanged_since(fifo) || self.dma_pins_traced() {
+                            self.dma_changed(fifo.unwrap_or_default(), k);
                         }
                         // The engine's pin levels follow its interrupt flags, settings,
                         // timing outputs and watchdog. The processor reads the settings,
@@ -253,7 +253,7 @@ impl Chip {
                         // neither, no level can have changed (most processor events).
                         if self.engine.next_memo.is_none() {
                             self.settle_tick(k);
-                        } else if self.engine.flags != flags {
+                        } else if self.engine.flags.word() != flags {
                             // Flags only: INT0 / INT1 (the other levels stand).
                             let changed = self.engine.update_int_levels();
                             if changed != 0 {
@@ -326,19 +326,17 @@ impl Chip {
         e: u64,
         limit: u64,
         engine_tick: Option<u64>,
-        flags: crate::interrupts::Flags,
-        fifo: crate::telegram_processor::FifoState,
+        flags: u64,
+        fifo: Option<crate::telegram_processor::FifoState>,
     ) -> bool {
-        let now = self.engine.flags;
+        // `Flags::word`: of 4H only the bits an enabled output carries, the rest whole.
+        let carried = !u64::from(!self.engine.s.int_out_lo);
         self.chained_steps
             && e <= limit
             && engine_tick.is_none_or(|x| x > e)
             && self.engine.next_memo.is_some()
-            && (now.lo ^ flags.lo) & self.engine.s.int_out_lo == 0
-            && now.hi == flags.hi
-            && now.wdog == flags.wdog
-            && now.rscend == flags.rscend
-            && self.tp.fifo.state() == fifo
+            && (self.engine.flags.word() ^ flags) & carried == 0
+            && self.tp.fifo.unchanged_since(fifo)
             && !self.dma_pins_traced()
             && self
                 .serial_next_loud_event()

@@ -26,6 +26,15 @@ pub(crate) struct Flags {
 }
 
 impl Flags {
+    /// Every flag in one word, to see at once what changed: 4H in bits 0–15, 5H in bits
+    /// 16–31, INT_WDOG in bit 32, INT_RSCEND in bit 40 (410B §4.1 4H, 5H; 816 §2.11.2 28H).
+    #[inline]
+    pub(crate) fn word(&self) -> u64 {
+        let regs = u32::from(self.lo) | u32::from(self.hi) << 16;
+        let ext = u16::from(self.wdog) | u16::from(self.rscend) << 8;
+        u64::from(regs) | u64::from(ext) << 32
+    }
+
     /// Whether an enabled flag requests interrupt output `n` (0 or 1): INTFL0 / INTFL1.
     ///
     /// Reading (spec-notes "INTFL"): INTFLn shows the request whether or not ENINTn lets

@@ -20,6 +20,10 @@ pub(crate) struct DmaFifos {
     pub(crate) pulse_r: Option<u64>,
     /// DMAMODE = 1: the MCLK tick of the last DMAREQT pulse.
     pub(crate) pulse_t: Option<u64>,
+    /// Whether either FIFO ever held a word or was asked for one (sticky): until then the
+    /// state is (0, 0, 0) and [`DmaFifos::unchanged_since`] reads nothing else. Set where a
+    /// word is stored (`store_rx`) or wanted (`want_tx`); a host write needs a word wanted.
+    pub(crate) used: bool,
 }
 
 /// The FIFO state the requests depend on: (RFIFO words, TFIFO words, words wanted).
@@ -42,6 +46,31 @@ impl DmaFifos {
     /// The state the requests depend on, to see what an event changed.
     pub(crate) fn state(&self) -> FifoState {
         (self.rx.len(), self.tx.len(), self.tx_want)
+    }
+
+    /// The state to hand [`DmaFifos::unchanged_since`] after some steps: `None` while the
+    /// FIFOs were never used (the state (0, 0, 0)), without reading them.
+    #[inline]
+    pub(crate) fn snapshot(&self) -> Option<FifoState> {
+        self.used.then(|| self.state())
+    }
+
+    /// Whether the state is still `before` (a [`DmaFifos::snapshot`]): always while the
+    /// FIFOs were never used.
+    #[inline]
+    pub(crate) fn unchanged_since(&self, before: Option<FifoState>) -> bool {
+        debug_assert!(
+            self.used || self.state() == (0, 0, 0),
+            "FIFO used unnoticed"
+        );
+        !self.used || self.state() == before.unwrap_or_default()
+    }
+
+    /// The words the pending DMA transmit telegram needs (410B §2 DMAREQT), 0 for none.
+    #[inline]
+    pub(crate) fn want_tx(&mut self, want: usize) {
+        self.used |= want != 0;
+        self.tx_want = want;
     }
 
     /// DMAMODE = 1 (410B §4.1 1H.14: "DMAREQR/DMAREQT are pulses"): after a change of the
@@ -68,6 +97,7 @@ impl DmaFifos {
             self.rx.clear();
         }
         self.rx_block = block;
+        self.used = true;
         self.rx.extend(words.iter().copied());
         overrun
     }
@@ -111,5 +141,30 @@ mod tests {
         assert_eq!(f.rx.iter().copied().collect::<Vec<_>>(), vec![4]);
         assert_eq!(f.read(), 4);
         assert!(!f.store_rx(Some(30), &[5]));
+    }
+
+    // The snapshot `Chip::advance_to` compares after the processor's steps: a FIFO never
+    // used reads as (0, 0, 0) without being read; a stored word (410B §4.1 27H RFIFO) or a
+    // wanted one (410B §2 DMAREQT) is a change from that, and the state is compared from
+    // then on.
+    #[test]
+    fn a_snapshot_sees_the_first_word_stored_or_wanted() {
+        let mut f = DmaFifos::default();
+        let never = f.snapshot();
+        assert_eq!(never, None);
+        f.want_tx(0);
+        assert!(f.unchanged_since(never));
+        f.want_tx(2);
+        assert!(!f.unchanged_since(never));
+        let wanting = f.snapshot();
+        assert!(f.write(7));
+        assert!(!f.unchanged_since(wanting));
+        let mut f = DmaFifos::default();
+        assert!(!f.store_rx(Some(10), &[1]));
+        assert!(!f.unchanged_since(never));
+        let stored = f.snapshot();
+        assert!(f.unchanged_since(stored));
+        assert_eq!(f.read(), 1);
+        assert!(!f.unchanged_since(stored));
     }
 }

@@ -26,7 +26,7 @@ pub(super) fn prepare(chip: &mut Chip, at: u16, hdr: &TxHeader) {
         .sum();
     let want = want.min(usize::from(hdr.tlen));
     chip.tp.fifo.tx.truncate(want);
-    chip.tp.fifo.tx_want = want;
+    chip.tp.fifo.want_tx(want);
 }
 
 /// Whether the telegram is sent, by EN (410B §4.2.1: "not to be transmitted (EN = 0),
@@ -250,14 +250,14 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
     // The FIFO takes the words of this header's next telegram from now on: DMAREQT is
     // active again (410B §2 "becomes active when data can be written to the transmit
     // FIFO"; spec-notes "Master DMA layout").
-    chip.tp.fifo.tx_want = if buffering == Buffering::Dma {
+    chip.tp.fifo.want_tx(if buffering == Buffering::Dma {
         list.iter()
             .map(|c| usize::from(c.control.len))
             .sum::<usize>()
             .min(tlen)
     } else {
         0
-    };
+    });
     chip.tp.txbuf = buf;
     chip.tp.record = record;
     chip.tp.containers = list;
