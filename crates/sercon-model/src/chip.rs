@@ -195,9 +195,7 @@ impl Chip {
                     } else {
                         self.clock.instant(bound).min(t)
                     };
-                    while self.serial_next_loud_event().is_some_and(|a| a <= bound_at)
-                        && self.serial_step(t)
-                    {}
+                    self.serial_steps_up_to(bound_at, t);
                 }
                 match (engine_tick, tp_tick) {
                     (Some(e), tp) if tp.is_none_or(|k| e <= k) => {
@@ -274,9 +272,7 @@ impl Chip {
                             && tp_next.is_none_or(|k| k > limit)
                         {
                             quiet = q;
-                            while self.serial_next_loud_event().is_some_and(|a| a <= t)
-                                && self.serial_step(t)
-                            {}
+                            self.serial_steps_up_to(t, t);
                             break (engine_next, tp_next);
                         }
                     }
@@ -309,6 +305,13 @@ impl Chip {
             }
         }
         self.now = t;
+    }
+
+    /// Applies the serial port's loud changes due at or before `upto`, one instant at a time,
+    /// in an advance to `t` (they go before MCLK ticks at or after them).
+    #[inline]
+    fn serial_steps_up_to(&mut self, upto: Instant, t: Instant) {
+        while self.serial_next_loud_event().is_some_and(|a| a <= upto) && self.serial_step(t) {}
     }
 
     /// Whether [`Chip::advance_to`] may take the processor's next event at MCLK tick `e`

@@ -631,16 +631,19 @@ impl Simulation {
                 if self.wake_node(j, time)? {
                     // Served and rescheduled: one settle round is spent.
                     self.settle_rounds(1);
-                    if self.joined_parks {
-                        self.queue_joined_parks();
-                    }
-                    return self.recorder.flush_before(self.now);
+                    return self.end_event();
                 }
             }
             Ev::FaultStart(i) => self.fault_start(i, time)?,
             Ev::FaultEnd(i) => self.fault_end(i, time)?,
         }
         self.settle();
+        self.end_event()
+    }
+
+    /// The end of an event, its nodes served: the slaves a joined wake parked without their
+    /// queue entries are queued (`sim/join_wake.rs`), the traces flushed up to now.
+    fn end_event(&mut self) -> Result<(), SimError> {
         if self.joined_parks {
             self.queue_joined_parks();
         }
