@@ -24,11 +24,16 @@
 //!   the MST's only for ATs a slave's list puts before the MDT's receive header).
 //!
 //! Otherwise each AT goes at its slave's wake, as before.
+//!
+//! On a plain ring's fast path (`plain_ring`, no replay) with the short paths on, each AT
+//! taken so goes its way to the master directly (`send_on_plain`: what `route_output` and
+//! `propagate` do with it there, without the checks that cannot hold on that way; debug
+//! builds compare its arrival with a hop-by-hop walk).
 
-use sercon_model::serial_port::REPEATER_LATENCY_BITS;
+use sercon_model::serial_port::{LineSegment, LineSignal, REPEATER_LATENCY_BITS};
 use sercos_wire::time::{Duration, Instant};
 
-use super::Simulation;
+use super::{Delivery, Simulation};
 
 impl Simulation {
     /// Sends on the ATs of the slaves that ran past them in the pass just made
@@ -38,13 +43,27 @@ impl Simulation {
         let mut deferred = std::mem::take(&mut self.deferred);
         if self.deferred_may_go(&deferred) {
             let mut out = std::mem::take(&mut self.buf);
+            // A plain ring on the fast path: each AT by its own short way to the master.
+            let plain = self.short_paths
+                && self.plain_ring
+                && self.delivery == Delivery::Fast
+                && self.replay_to.is_none()
+                && !self.replay_copy;
             for &j in &deferred {
                 let Some(node) = self.nodes.get_mut(j) else {
                     continue;
                 };
                 let until = node.chip.now();
                 node.chip.take_line_output_until(until, &mut out);
-                self.route_taken(j, &mut out);
+                if plain
+                    && let [seg] = out.as_slice()
+                    && matches!(seg.signal, LineSignal::Bits(_))
+                    && let Some(seg) = out.pop()
+                {
+                    self.send_on_plain(j, seg);
+                } else {
+                    self.route_taken(j, &mut out);
+                }
             }
             self.buf = out;
             self.stats.ats_sent_on += deferred.len() as u64;
@@ -54,6 +73,75 @@ impl Simulation {
         }
         deferred.clear();
         self.deferred = deferred;
+    }
+
+    /// Slave `j`'s AT `seg` (its chip's time), taken from its chip, to the master, as
+    /// `route_output` and `propagate` carry it on a plain ring's fast path (no fibre fault,
+    /// trace or power window: `plain_ring`; no replay): nothing is expected at the slave's
+    /// output (only the reference path and a faulty ring's chip forwards expect copies), so
+    /// the AT is the slave's own; it goes through the plain repeaters after the slave
+    /// (`pass_plain`: `deferred_may_go` found them plain up to the master, 410B §1 "The
+    /// slaves regenerate and repeat their received data") and over the fibre into the
+    /// master, which takes it (fast path: a slave's telegram goes to no slave).
+    fn send_on_plain(&mut self, j: usize, mut seg: LineSegment) {
+        let n = self.nodes.len();
+        let Some(node) = self.nodes.get_mut(j) else {
+            return;
+        };
+        debug_assert!(node.expect.is_empty(), "a copy expected on the fast path");
+        // `route_output`: the output after the AT, its start in simulation time, the floor.
+        node.resume = seg.end().filter(|_| !seg.then_filler);
+        let Some(mut floor) = self.out_floors.get(j) else {
+            return;
+        };
+        if node.clock.is_identity() {
+            seg.start = node.clock.to_global(seg.start);
+        } else {
+            node.map_out_after(&mut seg, floor);
+        }
+        let before = floor;
+        if node.put_out(&mut floor, &mut seg, true) && before > node.chip_out_end {
+            // It cut a telegram the fast path put out ahead of the chip (`route_output`).
+            self.stats.fast_path_collisions += 1;
+        }
+        node.chip_out_end = floor;
+        self.out_floors.set(j, floor);
+        self.floor_written(j);
+        // `propagate`: through the plain repeaters, then into the master.
+        debug_assert!(j != 0, "the master's telegram sent on as a slave's");
+        #[cfg(debug_assertions)]
+        let walked = self.walk_to_master(j, &seg);
+        let mut cur = j;
+        if self.faulty {
+            self.count_steady_receivers(cur);
+        }
+        self.pass_plain(&mut cur, &mut seg);
+        debug_assert_eq!(cur + 1, n, "the plain repeaters end before the master");
+        let Some(delay) = self.seg_delays.get(cur) else {
+            return;
+        };
+        seg.start = seg.start.saturating_add(*delay);
+        #[cfg(debug_assertions)]
+        debug_assert_eq!(Some(seg.start), walked, "an AT's way to the master");
+        if self.nodes.first().is_some_and(|m| m.powered) {
+            self.deliver(0, seg, j, false);
+        }
+    }
+
+    /// Debug builds: where `seg`, put out by slave `j`, reaches the master when every hop
+    /// after it is taken as `propagate`'s general loop takes it (fibre delay, repeater
+    /// latency, the repeater's output floor; 410B §1), the floors left as they are.
+    #[cfg(debug_assertions)]
+    fn walk_to_master(&self, j: usize, seg: &LineSegment) -> Option<Instant> {
+        let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        let mut at = seg.start;
+        for m in j + 1..self.nodes.len() {
+            at = at
+                .saturating_add(*self.seg_delays.get(m - 1)?)
+                .saturating_add(lat)
+                .max(self.out_floors.get(m)?);
+        }
+        Some(at.saturating_add(*self.seg_delays.last()?))
     }
 
     /// The slaves whose ATs were just sent on, touched by their delivery because that AT
