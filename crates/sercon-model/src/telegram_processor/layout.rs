@@ -227,13 +227,13 @@ fn held_as_in_ram(chip: &Chip, headers: &RamWords) -> bool {
         role: super::RxRole::Telegram { at, hdr },
         ..
     }) = &chip.tp.rx_now
-        && !same(*at, RX_MARKER, None, hdr.dma, hdr.dbuf)
+        && !same(*at, RX_MARKER, None, hdr.dma(), hdr.dbuf())
     {
         return false;
     }
     match chip.tp.block.as_ref().and_then(|b| b.cur) {
         Some(super::Cur::Rx { at, hdr, .. }) => {
-            same(at, RX_MARKER, Some(hdr.pt), hdr.dma, hdr.dbuf)
+            same(at, RX_MARKER, Some(hdr.pt), hdr.dma(), hdr.dbuf())
         }
         Some(super::Cur::Tx { at, hdr, .. }) => {
             same(at, TX_MARKER, Some(hdr.pt), hdr.dma, hdr.dbuf)

@@ -21,6 +21,7 @@ mod line_out;
 mod output_bound;
 pub(crate) use output_bound::next_tx_bound;
 mod receive;
+pub(crate) use receive::RxHead;
 pub(crate) mod status;
 mod transmit;
 mod walk;
@@ -29,7 +30,7 @@ mod walk_memo;
 use std::collections::VecDeque;
 
 use sercon_regs::Register;
-use sercon_regs::ram::header::{RxHeader, TxHeader};
+use sercon_regs::ram::header::TxHeader;
 use sercos_wire::time::Instant;
 
 use crate::chip::Chip;
@@ -51,7 +52,7 @@ pub(crate) enum Cur {
     /// A receive telegram expected from tick `open`; with TCHK it must start by `close`.
     Rx {
         at: u16,
-        hdr: RxHeader,
+        hdr: RxHead,
         open: u64,
         close: Option<u64>,
         announced: bool,
@@ -104,7 +105,7 @@ pub(crate) enum RxRole {
     /// An MST (ADR 255 and one data byte).
     Mst,
     /// The expected telegram of the receive header at `at`.
-    Telegram { at: u16, hdr: RxHeader },
+    Telegram { at: u16, hdr: RxHead },
 }
 
 /// A frame whose start has passed: what its end reads (not the whole [`HeardFrame`], whose
@@ -766,14 +767,30 @@ fn load_tx(chip: &mut Chip, tick: u64, ptr: u16, ref_tick: u64, w: [u16; 4]) {
 /// Makes the receive header at `ptr` (its words `w`) current (`load`).
 #[inline(never)]
 fn load_rx(chip: &mut Chip, tick: u64, ptr: u16, ref_tick: u64, w: [u16; 5]) {
-    // 410B §4.2.1 receive header; the kind was classified by `header_words`.
-    let Ok(hdr) = RxHeader::from_words(chip.cfg.variant, w) else {
-        prog_error(chip, ProgErr::OutsideRam);
-        abort_loading(chip, tick);
-        return;
-    };
-    let trt = u64::from(hdr.trt);
-    let (open, close) = if hdr.tchk {
+    // 410B §4.2.1 receive header; the kind was classified by `header_words`, so it
+    // decodes (word 0 kept whole, `RxHead`).
+    let hdr = RxHead::from_words(chip.cfg.variant, w);
+    #[cfg(debug_assertions)]
+    {
+        let general = sercon_regs::ram::header::RxHeader::from_words(chip.cfg.variant, w);
+        debug_assert!(
+            general.is_ok_and(|g| g.to_words(chip.cfg.variant)[0] == hdr.w0
+                && g.pt == hdr.pt
+                && g.tlen == hdr.tlen
+                && (g.adr, g.dma, g.dbuf, g.val, g.achk, g.tchk, g.rerr)
+                    == (
+                        hdr.adr(),
+                        hdr.dma(),
+                        hdr.dbuf(),
+                        hdr.val(),
+                        hdr.achk(),
+                        hdr.tchk(),
+                        hdr.rerr()
+                    ))
+        );
+    }
+    let trt = u64::from(w[1]);
+    let (open, close) = if hdr.tchk() {
         // 410B §4.2.1 TCHK with §4.1 18H/19H JTRDEL1/2, the receive window
         // (spec-notes "receive window"): TRT − JTRDEL1 ..= TRT + JTRDEL2.
         let j1 = u64::from(chip.engine.regs.stored(Register::Jtrdel1));

@@ -2,7 +2,7 @@
 //! §4.1 3H.10-11, 4H.12-15, 5H.8, 5H.15, 0BH RECADR, 25H/26H THRPT/THR; 816 §2.9, §2.10.2).
 
 use sercon_regs::Variant;
-use sercon_regs::ram::header::{Buffering, HeaderKind, RxHeader};
+use sercon_regs::ram::header::{Buffering, HeaderKind};
 
 use super::status::{INT_NEWADR, INT_REND, INT_RERR, INT_RMISS, INT_RSTART, ProgErr};
 use super::transmit::raise_sc;
@@ -11,6 +11,118 @@ use super::walk_memo;
 use super::{Cur, RxNow, RxRole, advance, prog_error, reg25, set_flmdtadr};
 use crate::chip::Chip;
 use crate::service_container::{self, ScMode};
+
+/// A receive header as the processor holds it from its reading at `load` to the end of its
+/// telegram (410B §4.2.1): word 0 as read, TLEN (word 2) and PT (word 3, cut to the variant's
+/// pointer width). Word 0 is kept whole, not decoded into its fields: the processor writes
+/// it back with only VAL, RERR and (ACHK = 0) ADR changed ("Modified by controller at
+/// beginning and end of receive telegrams"), which are set in place; its other bits are
+/// read where they decide (docs/performance.md, session 26, rxchain). TRT decides only at
+/// `load`; NERR is read afresh where it is counted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct RxHead {
+    /// Word 0: ADR 7-0, DMA 8, DBUF 9, VAL 10, ACHK 11, TCHK 12, RERR 13, marker 15-14 = 00.
+    pub(crate) w0: u16,
+    /// TLEN: the telegram's length in data words, without the address.
+    pub(crate) tlen: u16,
+    /// PT: the word address of the next header or the end marker.
+    pub(crate) pt: u16,
+}
+
+/// 410B §4.2.1 receive header word 0: VAL (bit 10).
+const VAL: u16 = 1 << 10;
+/// 410B §4.2.1 receive header word 0: RERR (bit 13).
+const RERR: u16 = 1 << 13;
+
+impl RxHead {
+    /// The header of words `w`, whose word 0 marks a receive header (`walk::header_words`
+    /// classified it: 410B §4.2.1, ERRATA "telegram header marker bits").
+    #[inline]
+    pub(crate) fn from_words(variant: Variant, w: [u16; 5]) -> RxHead {
+        let [w0, _trt, tlen, w3, _nerr] = w;
+        debug_assert_eq!(HeaderKind::classify(w0), Ok(HeaderKind::Receive));
+        RxHead {
+            w0,
+            tlen,
+            pt: w3 & variant.pointer_mask(),
+        }
+    }
+
+    /// ADR (word 0 bits 7-0).
+    #[inline]
+    pub(crate) fn adr(self) -> u8 {
+        self.w0 as u8
+    }
+
+    /// DMA (0.8).
+    #[inline]
+    pub(crate) fn dma(self) -> bool {
+        self.w0 & (1 << 8) != 0
+    }
+
+    /// DBUF (0.9).
+    #[inline]
+    pub(crate) fn dbuf(self) -> bool {
+        self.w0 & (1 << 9) != 0
+    }
+
+    /// VAL (0.10).
+    #[inline]
+    pub(crate) fn val(self) -> bool {
+        self.w0 & VAL != 0
+    }
+
+    /// ACHK (0.11).
+    #[inline]
+    pub(crate) fn achk(self) -> bool {
+        self.w0 & (1 << 11) != 0
+    }
+
+    /// TCHK (0.12).
+    #[inline]
+    pub(crate) fn tchk(self) -> bool {
+        self.w0 & (1 << 12) != 0
+    }
+
+    /// RERR (0.13).
+    #[inline]
+    pub(crate) fn rerr(self) -> bool {
+        self.w0 & RERR != 0
+    }
+
+    /// Where the telegram's data lives (410B §4.2.2: DMA, DBUF).
+    #[inline]
+    pub(crate) fn buffering(self) -> Buffering {
+        Buffering::from_bits(self.dma(), self.dbuf())
+    }
+
+    /// The header with VAL set to `val`.
+    #[inline]
+    fn with_val(self, val: bool) -> RxHead {
+        RxHead {
+            w0: (self.w0 & !VAL) | u16::from(val) << 10,
+            ..self
+        }
+    }
+
+    /// The header with RERR set to `rerr`.
+    #[inline]
+    fn with_rerr(self, rerr: bool) -> RxHead {
+        RxHead {
+            w0: (self.w0 & !RERR) | u16::from(rerr) << 13,
+            ..self
+        }
+    }
+
+    /// The header with ADR set to `adr`.
+    #[inline]
+    fn with_adr(self, adr: u8) -> RxHead {
+        RxHead {
+            w0: (self.w0 & 0xFF00) | u16::from(adr),
+            ..self
+        }
+    }
+}
 
 /// ERRATA "Telegrams": the MST is ADR 255 with one data byte.
 pub(crate) fn is_mst(bytes: &[u8]) -> bool {
@@ -101,7 +213,7 @@ fn accept(chip: &mut Chip, tick: u64, at_tick: u64, bytes: &[u8]) -> RxRole {
     }
     let adr = bytes.first().copied().unwrap_or(0);
     // 25H.11 PHAS12 read only when it decides.
-    if hdr.achk && adr != hdr.adr && !reg25(chip).1 {
+    if hdr.achk() && adr != hdr.adr() && !reg25(chip).1 {
         // 410B §4.2.1 ACHK = 1: "Telegrams are received if the address is valid".
         return RxRole::Ignored;
     }
@@ -115,19 +227,18 @@ fn accept(chip: &mut Chip, tick: u64, at_tick: u64, bytes: &[u8]) -> RxRole {
     if h.buffering() != Buffering::Double {
         // 410B §4.2.1 VAL, single buffer or DMA: "telegram data is invalid (VAL = 0)";
         // "Modified by controller at beginning and end of receive telegrams".
-        h.val = false;
-        write_word0(chip, at, &h);
+        h = h.with_val(false);
+        write_word0(chip, at, h);
     }
     // The next header is read at the start of this telegram (816 §2.10.1.2, Figure 6).
     advance(chip, tick, hdr.pt);
     RxRole::Telegram { at, hdr: h }
 }
 
-fn write_word0(chip: &mut Chip, at: u16, h: &RxHeader) {
-    let mut cur = *h;
-    // Only word 0 is written; keep the header's other words as they are in the RAM.
-    cur.pt = 0;
-    let w0 = cur.to_words(chip.cfg.variant)[0];
+/// Writes word 0 of the receive header at `at` as `h` holds it; the header's other words stay
+/// as they are in the RAM.
+fn write_word0(chip: &mut Chip, at: u16, h: RxHead) {
+    let w0 = h.w0;
     walk::set_word(&mut chip.ram, u32::from(at), w0);
     super::output_bound::ram_written(chip, u32::from(at), 1);
 }
@@ -178,7 +289,7 @@ fn release_held_starts(chip: &mut Chip, tick: u64) {
 }
 
 /// Completes the receive telegram of header `at` with `bytes` (ADR + data).
-fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHeader, bytes: &[u8], fcs_ok: bool) {
+fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHead, bytes: &[u8], fcs_ok: bool) {
     chip.tp.flrec = false;
     if let Some(b) = chip.tp.block.as_mut() {
         b.last_end = b.last_end.max(tick);
@@ -194,9 +305,9 @@ fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHeader, bytes: &[u8], fcs_
     if ok && reg25(chip).1 {
         // 410B §4.1 25H.12 FLMDTADR: "Address of receive telegram equal to expected
         // value"; 816 §2.9.2: an MDT with another address resets it.
-        let matches = adr == hdr.adr;
+        let matches = adr == hdr.adr();
         set_flmdtadr(chip, matches);
-        if hdr.achk && !matches {
+        if hdr.achk() && !matches {
             // Phase 1/2: an MDT for another drive ends the wait without data.
             chip.engine.flags.lo |= INT_REND;
             rscend(chip);
@@ -206,31 +317,31 @@ fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHeader, bytes: &[u8], fcs_
     if !ok {
         // 410B §4.2.1 RERR "errored or not received", NERR "Error counter"; 4H.15
         // INT_RERR; data unchanged; 5H.8 INT_RMISS on the second in a row.
-        if hdr.rerr {
+        if hdr.rerr() {
             chip.engine.flags.hi |= INT_RMISS;
         }
-        h.rerr = true;
-        write_word0(chip, at, &h);
+        h = h.with_rerr(true);
+        write_word0(chip, at, h);
         count_error(chip, at);
         chip.engine.flags.lo |= INT_RERR | INT_REND;
-        service_error(chip, at, &h);
+        service_error(chip, at, h);
         rscend(chip);
         return;
     }
     store(chip, at, &h, bytes);
-    if !hdr.achk && adr != hdr.adr {
+    if !hdr.achk() && adr != hdr.adr() {
         // 410B §4.2.1 ACHK = 0: "The received address is stored at ADR"; 5H.15
         // INT_NEWADR "address change" (spec-notes).
-        h.adr = adr;
+        h = h.with_adr(adr);
         chip.engine.flags.hi |= INT_NEWADR;
     }
-    h.rerr = false;
-    h.val = match h.buffering() {
+    let val = match h.buffering() {
         // 410B §4.2.1 VAL, double buffer: the buffer just written becomes the valid one.
-        Buffering::Double => !hdr.val,
+        Buffering::Double => !hdr.val(),
         _ => true,
     };
-    write_word0(chip, at, &h);
+    h = h.with_rerr(false).with_val(val);
+    write_word0(chip, at, h);
     chip.engine.flags.lo |= INT_REND;
     rscend(chip);
 }
@@ -245,7 +356,7 @@ fn rscend(chip: &mut Chip) {
 
 /// Stores the data of a good telegram container by container (410B §4.2.2 POS: "Position
 /// of the data block within the telegram in number of words").
-fn store(chip: &mut Chip, at: u16, h: &RxHeader, bytes: &[u8]) {
+fn store(chip: &mut Chip, at: u16, h: &RxHead, bytes: &[u8]) {
     let buffering = h.buffering();
     if let Some(c) = walk_memo::kept(chip, at, HeaderKind::Receive, buffering) {
         // Walked before under the layout proof that still stands: the same container, no
@@ -316,12 +427,7 @@ fn store_errors(chip: &mut Chip, walk_error: Option<ProgErr>, ends: (bool, bool)
 // Inlined at its three calls (LLVM kept it out of line with `#[inline]`): the call's own
 // cost (register saves, arguments) was about a third of a one-container store.
 #[inline(always)]
-fn store_list(
-    chip: &mut Chip,
-    h: &RxHeader,
-    bytes: &[u8],
-    list: &[walk::Container],
-) -> (bool, bool) {
+fn store_list(chip: &mut Chip, h: &RxHead, bytes: &[u8], list: &[walk::Container]) -> (bool, bool) {
     let variant = chip.cfg.variant;
     let buffering = h.buffering();
     let data = bytes.get(1..).unwrap_or(&[]);
@@ -356,7 +462,7 @@ fn store_list(
             // Double buffer: write the buffer that is not valid (VAL selects the valid one),
             // straight from the telegram (the record only for a service container).
             _ => {
-                let dst = c.buffer(buffering, !h.val);
+                let dst = c.buffer(buffering, !h.val());
                 let words = le_words(src);
                 match walk::words_mut(&mut chip.ram, dst, len) {
                     Some(ram) => ram.iter_mut().zip(words).for_each(|(r, w)| *r = w),
@@ -401,7 +507,7 @@ fn le_words(bytes: &[u8]) -> impl Iterator<Item = u16> + '_ {
 }
 
 /// Service containers of an errored or missing telegram record RECERR (410B §4.2.4).
-fn service_error(chip: &mut Chip, at: u16, h: &RxHeader) {
+fn service_error(chip: &mut Chip, at: u16, h: RxHead) {
     let variant = chip.cfg.variant;
     let mut list = std::mem::take(&mut chip.tp.containers);
     list.clear();
@@ -424,19 +530,65 @@ fn service_error(chip: &mut Chip, at: u16, h: &RxHeader) {
 /// The expected telegram of header `at` did not come (window closed, block ended).
 // 410B §4.2.1 RERR "errored or not received"; 5H.8 INT_RMISS "receive telegram missing
 // twice": RERR still set from the last cycle makes this the second in a row.
-pub(super) fn missing(chip: &mut Chip, at: u16, hdr: RxHeader) {
+pub(super) fn missing(chip: &mut Chip, at: u16, hdr: RxHead) {
     chip.tp.flrwait = false;
     // Re-read: the header in RAM is the truth (RERR of the previous cycle).
     let rerr_before = walk::word(&chip.ram, u32::from(at)).is_some_and(|w| w & (1 << 13) != 0);
     if rerr_before {
         chip.engine.flags.hi |= INT_RMISS;
     }
-    let mut h = hdr;
-    h.rerr = true;
+    let mut h = hdr.with_rerr(true);
     if let Some(w0) = walk::word(&chip.ram, u32::from(at)) {
-        h.val = w0 & (1 << 10) != 0;
+        h = h.with_val(w0 & VAL != 0);
     }
-    write_word0(chip, at, &h);
+    write_word0(chip, at, h);
     count_error(chip, at);
-    service_error(chip, at, &h);
+    service_error(chip, at, h);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sercon_regs::ram::header::RxHeader;
+
+    /// Every receive header word 0 (marker 00, 410B §4.2.1) with the other words of a few
+    /// kinds: what `RxHead` reads and writes in place is what decoding the header into
+    /// `RxHeader`, changing the field and encoding it again gives.
+    #[test]
+    fn word0_in_place_is_the_decoded_header() {
+        for variant in Variant::ALL {
+            for w0 in 0..0x4000u16 {
+                for (tlen, w3) in [(0, 0), (3, 0x0123), (0xFFFF, 0xFFFF)] {
+                    let words = [w0, 17, tlen, w3, 5];
+                    let Ok(g) = RxHeader::from_words(variant, words) else {
+                        panic!("{w0:#06x} is a receive header");
+                    };
+                    let h = RxHead::from_words(variant, words);
+                    assert_eq!(
+                        (
+                            h.adr(),
+                            h.dma(),
+                            h.dbuf(),
+                            h.val(),
+                            h.achk(),
+                            h.tchk(),
+                            h.rerr()
+                        ),
+                        (g.adr, g.dma, g.dbuf, g.val, g.achk, g.tchk, g.rerr),
+                        "{w0:#06x}"
+                    );
+                    assert_eq!((h.tlen, h.pt, h.buffering()), (g.tlen, g.pt, g.buffering()));
+                    let word0 = |g: RxHeader| g.to_words(variant)[0];
+                    assert_eq!(h.w0, word0(g));
+                    for b in [false, true] {
+                        assert_eq!(h.with_val(b).w0, word0(RxHeader { val: b, ..g }));
+                        assert_eq!(h.with_rerr(b).w0, word0(RxHeader { rerr: b, ..g }));
+                    }
+                    for adr in [0, 1, 0x5A, 0xFF] {
+                        assert_eq!(h.with_adr(adr).w0, word0(RxHeader { adr, ..g }));
+                    }
+                }
+            }
+        }
+    }
 }
