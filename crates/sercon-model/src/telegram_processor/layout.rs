@@ -236,7 +236,7 @@ fn held_as_in_ram(chip: &Chip, headers: &RamWords) -> bool {
             same(at, RX_MARKER, Some(hdr.pt), hdr.dma(), hdr.dbuf())
         }
         Some(super::Cur::Tx { at, hdr, .. }) => {
-            same(at, TX_MARKER, Some(hdr.pt), hdr.dma, hdr.dbuf)
+            same(at, TX_MARKER, Some(hdr.pt), hdr.dma(), hdr.dbuf())
         }
         _ => true,
     }

@@ -30,7 +30,7 @@ mod walk_memo;
 use std::collections::VecDeque;
 
 use sercon_regs::Register;
-use sercon_regs::ram::header::TxHeader;
+use sercon_regs::ram::header::TxEnable;
 use sercos_wire::time::Instant;
 
 use crate::chip::Chip;
@@ -48,7 +48,7 @@ pub use crate::serial_port::RxFrame;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Cur {
     /// A transmit telegram due at tick `start` (header read into NTH at `read`).
-    Tx { at: u16, hdr: TxHeader, start: u64 },
+    Tx { at: u16, hdr: TxHead, start: u64 },
     /// A receive telegram expected from tick `open`; with TCHK it must start by `close`.
     Rx {
         at: u16,
@@ -59,6 +59,94 @@ pub(crate) enum Cur {
     },
     /// The end marker, reached at `ready`; the block ends when the last telegram has.
     End { at: u16, ready: u64 },
+}
+
+/// A transmit header as the processor holds it from its reading into NTH (`load`) to its
+/// telegram's start (410B §4.2.1; 816 §2.10.1.2): word 0 as read, TLEN (word 2) and PT
+/// (word 3, cut to the variant's pointer width). Word 0 is kept whole, not decoded into its
+/// fields: the processor writes it back with EN = 0 (EN = 1, "the circuit sets EN to 0
+/// after the transmit telegram has been started") and the 816 reads VAL again at the start,
+/// both set in place (as `receive::RxHead`). TRT decides only at `load`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct TxHead {
+    /// Word 0: ADR 7-0, DMA 8, DBUF 9, VAL 10, EN 12-11, bit 13, marker 15-14 = 01.
+    pub(crate) w0: u16,
+    /// TLEN: the telegram's length in data words, without the address.
+    pub(crate) tlen: u16,
+    /// PT: the word address of the next header or the end marker.
+    pub(crate) pt: u16,
+}
+
+impl TxHead {
+    /// The header of words `w`, whose word 0 marks a transmit header (`walk::header_words`
+    /// classified it: 410B §4.2.1, ERRATA "telegram header marker bits").
+    #[inline]
+    pub(crate) fn from_words(variant: sercon_regs::Variant, w: [u16; 4]) -> TxHead {
+        let [w0, _trt, tlen, w3] = w;
+        debug_assert_eq!(
+            sercon_regs::ram::header::HeaderKind::classify(w0),
+            Ok(sercon_regs::ram::header::HeaderKind::Transmit)
+        );
+        TxHead {
+            w0,
+            tlen,
+            pt: w3 & variant.pointer_mask(),
+        }
+    }
+
+    /// ADR (word 0 bits 7-0).
+    #[inline]
+    pub(crate) fn adr(self) -> u8 {
+        self.w0 as u8
+    }
+
+    /// DMA (0.8).
+    #[inline]
+    pub(crate) fn dma(self) -> bool {
+        self.w0 & (1 << 8) != 0
+    }
+
+    /// DBUF (0.9).
+    #[inline]
+    pub(crate) fn dbuf(self) -> bool {
+        self.w0 & (1 << 9) != 0
+    }
+
+    /// VAL (0.10).
+    #[inline]
+    pub(crate) fn val(self) -> bool {
+        self.w0 & (1 << 10) != 0
+    }
+
+    /// EN (0.12-11).
+    #[inline]
+    pub(crate) fn en(self) -> TxEnable {
+        TxEnable::from_code(self.w0 >> 11)
+    }
+
+    /// Where the telegram's data lives (410B §4.2.2: DMA, DBUF).
+    #[inline]
+    pub(crate) fn buffering(self) -> sercon_regs::ram::header::Buffering {
+        sercon_regs::ram::header::Buffering::from_bits(self.dma(), self.dbuf())
+    }
+
+    /// The header with VAL set to `val`.
+    #[inline]
+    pub(crate) fn with_val(self, val: bool) -> TxHead {
+        TxHead {
+            w0: (self.w0 & !(1 << 10)) | u16::from(val) << 10,
+            ..self
+        }
+    }
+
+    /// The header with EN set to `en`.
+    #[inline]
+    pub(crate) fn with_en(self, en: TxEnable) -> TxHead {
+        TxHead {
+            w0: (self.w0 & !(3 << 11)) | (en as u16) << 11,
+            ..self
+        }
+    }
 }
 
 /// A transmission block being processed (410B §4.1 3H.6 COMACT = 1).
@@ -738,14 +826,22 @@ fn at_us(chip: &Chip, ref_tick: u64, us: u64) -> u64 {
 /// Makes the transmit header at `ptr` (its words `w`) current (`load`).
 #[inline(never)]
 fn load_tx(chip: &mut Chip, tick: u64, ptr: u16, ref_tick: u64, w: [u16; 4]) {
-    // 410B §4.2.1 transmit header; the kind was classified by `header_words`.
-    let Ok(hdr) = TxHeader::from_words(chip.cfg.variant, w) else {
-        prog_error(chip, ProgErr::OutsideRam);
-        abort_loading(chip, tick);
-        return;
-    };
+    // 410B §4.2.1 transmit header; the kind was classified by `header_words`, so it
+    // decodes (word 0 kept whole, `TxHead`).
+    let hdr = TxHead::from_words(chip.cfg.variant, w);
+    #[cfg(debug_assertions)]
+    {
+        let general = sercon_regs::ram::header::TxHeader::from_words(chip.cfg.variant, w);
+        debug_assert!(
+            general.is_ok_and(|g| g.to_words(chip.cfg.variant)[0] == hdr.w0
+                && (g.pt, g.tlen) == (hdr.pt, hdr.tlen)
+                && (g.adr, g.dma, g.dbuf, g.val, g.en)
+                    == (hdr.adr(), hdr.dma(), hdr.dbuf(), hdr.val(), hdr.en())),
+            "load_tx: TxHead differs from TxHeader"
+        );
+    }
     // 410B §4.2.1 TRT: "Time for the start of telegram in µs after the end of MST".
-    let start = at_us(chip, ref_tick, u64::from(hdr.trt));
+    let start = at_us(chip, ref_tick, u64::from(w[1]));
     let start = if start < tick {
         // Due before its header was reached: the telegrams overlap in time.
         prog_error(chip, ProgErr::Overlap);
@@ -868,4 +964,48 @@ pub(crate) fn ram_word(chip: &Chip, addr: u16) -> u16 {
 pub(crate) fn set_ram_word(chip: &mut Chip, addr: u16, value: u16) {
     walk::set_word(&mut chip.ram, u32::from(addr), value);
     output_bound::ram_written(chip, u32::from(addr), 1);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sercon_regs::Variant;
+    use sercon_regs::ram::header::TxHeader;
+
+    /// Every transmit header word 0 (marker 01, 410B §4.2.1) with the other words of a few
+    /// kinds: what `TxHead` reads and writes in place is what decoding the header into
+    /// `TxHeader`, changing the field and encoding it again gives.
+    #[test]
+    fn tx_word0_in_place_is_the_decoded_header() {
+        for variant in Variant::ALL {
+            for w0 in 0x4000..0x8000u16 {
+                for (tlen, w3) in [(0, 0), (3, 0x0123), (0xFFFF, 0xFFFF)] {
+                    let words = [w0, 17, tlen, w3];
+                    let Ok(g) = TxHeader::from_words(variant, words) else {
+                        panic!("{w0:#06x} is a transmit header");
+                    };
+                    let h = TxHead::from_words(variant, words);
+                    assert_eq!(
+                        (h.adr(), h.dma(), h.dbuf(), h.val(), h.en()),
+                        (g.adr, g.dma, g.dbuf, g.val, g.en),
+                        "{w0:#06x}"
+                    );
+                    assert_eq!((h.tlen, h.pt, h.buffering()), (g.tlen, g.pt, g.buffering()));
+                    let word0 = |g: TxHeader| g.to_words(variant)[0];
+                    assert_eq!(h.w0, word0(g));
+                    for b in [false, true] {
+                        assert_eq!(h.with_val(b).w0, word0(TxHeader { val: b, ..g }));
+                    }
+                    for en in [
+                        TxEnable::Off,
+                        TxEnable::Once,
+                        TxEnable::Continuous,
+                        TxEnable::OnAddress,
+                    ] {
+                        assert_eq!(h.with_en(en).w0, word0(TxHeader { en, ..g }));
+                    }
+                }
+            }
+        }
+    }
 }

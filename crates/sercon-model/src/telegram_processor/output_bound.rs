@@ -55,7 +55,7 @@ pub(crate) fn next_tx_bound(chip: &Chip) -> Option<u64> {
             // 410B §4.2.1 TRT: the current transmit telegram starts at its time. One whose
             // EN is 0 (read into NTH, not read again at its start) sends nothing there: the
             // next enabled one in the list bounds what follows, as the walks below find it.
-            Some(Cur::Tx { start, hdr, .. }) if hdr.en != TxEnable::Off => consider(Some(start)),
+            Some(Cur::Tx { start, hdr, .. }) if hdr.en() != TxEnable::Off => consider(Some(start)),
             Some(Cur::Tx { hdr, .. }) => consider(next_tx_memo(chip, b, hdr.pt)),
             // The headers are walked in list order (PT) and a transmit telegram never
             // starts before its TRT, nor before the one ahead of it: the next enabled

@@ -2,12 +2,12 @@
 //! §2.10.1).
 
 use sercon_regs::Variant;
-use sercon_regs::ram::header::{Buffering, HeaderKind, TxEnable, TxHeader};
+use sercon_regs::ram::header::{Buffering, HeaderKind, TxEnable};
 
 use super::status::{INT_TEND, INT_TSTART, ProgErr};
 use super::walk::{self, Containers};
 use super::walk_memo;
-use super::{Cur, advance, entmt, prog_error, reg25, set_flmdtadr};
+use super::{Cur, TxHead, advance, entmt, prog_error, reg25, set_flmdtadr};
 use crate::chip::Chip;
 use crate::service_container::{self, ScMode};
 
@@ -15,8 +15,8 @@ use crate::service_container::{self, ScMode};
 // 410B §2 DMAREQT: "becomes active when data can be written to the transmit FIFO".
 // Words written before (after the previous DMA transmit telegram took its words) are kept
 // up to what this telegram needs (spec-notes "Master DMA layout").
-pub(super) fn prepare(chip: &mut Chip, at: u16, hdr: &TxHeader) {
-    if hdr.buffering() != Buffering::Dma || hdr.en == TxEnable::Off {
+pub(super) fn prepare(chip: &mut Chip, at: u16, hdr: &TxHead) {
+    if hdr.buffering() != Buffering::Dma || hdr.en() == TxEnable::Off {
         chip.tp.fifo.tx.clear();
         chip.tp.fifo.tx_want = 0;
         return;
@@ -43,7 +43,7 @@ fn enabled(en: TxEnable, phas12: bool, flmdtadr: bool) -> bool {
 
 /// The transmit telegram of the header at `at` is due at `tick`; `nth` is the header as
 /// read when it became current.
-pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHeader) {
+pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHead) {
     let variant = chip.cfg.variant;
     let mut hdr = nth;
     if variant == Variant::Sercon816 {
@@ -51,13 +51,13 @@ pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHeader) {
         // transmit telegram again, all other data of the telegram header (ADR, DMA, DBUF
         // and EN) will NOT be read again." The 410B keeps the VAL of NTH.
         let w0 = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
-        hdr.val = w0 & (1 << 10) != 0;
+        hdr = hdr.with_val(w0 & (1 << 10) != 0);
     }
     // The next header is read at the start of this telegram (816 §2.10.1.2, Figure 6:
     // "After start of a telegram the telegram header of the next expected telegram is
     // written into register NTH").
     let (_, phas12, flmdtadr) = reg25(chip);
-    let send = entmt(chip) && enabled(hdr.en, phas12, flmdtadr);
+    let send = entmt(chip) && enabled(hdr.en(), phas12, flmdtadr);
     if !send || tick < chip.tp.tx_busy_until {
         if send {
             // The transmitter is still busy with the previous telegram.
@@ -67,17 +67,15 @@ pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHeader) {
         advance(chip, tick, hdr.pt);
         return;
     }
-    if hdr.en == TxEnable::Once {
+    if hdr.en() == TxEnable::Once {
         // 410B §4.2.1 EN: "If EN is 1 the circuit sets EN to 0 after the transmit telegram
         // has been started"; the whole word 0 is written back, with the VAL last read
         // (816 §2.10.1.2; on the 410B that is NTH's VAL, overwriting a newer one).
-        let mut back = hdr;
-        back.en = TxEnable::Off;
-        let w0 = back.to_words(variant)[0];
+        let w0 = hdr.with_en(TxEnable::Off).w0;
         walk::set_word(&mut chip.ram, u32::from(at), w0);
         super::output_bound::ram_written(chip, u32::from(at), 1);
     }
-    if hdr.en == TxEnable::OnAddress && variant == Variant::Sercon816 {
+    if hdr.en() == TxEnable::OnAddress && variant == Variant::Sercon816 {
         // 816 §2.9.2: "the flag FLMDTADR is reset after starting to send a telegram when
         // initiated when the flag is set. Therefore sending AT's can occur only once."
         set_flmdtadr(chip, false);
@@ -141,14 +139,14 @@ fn words_or_zero(ram: &[u16], from: u32, len: usize) -> impl Iterator<Item = u16
 /// Builds ADR and the data words of the telegram in `chip.tp.txbuf`.
 // 410B §4.2.1 ADR, TLEN ("Length of the telegram in data words (not including address)");
 // §4.2.2: the data containers in order, from the valid buffer or the transmit FIFO.
-fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
+fn assemble(chip: &mut Chip, at: u16, hdr: &TxHead) {
     let variant = chip.cfg.variant;
     let buffering = hdr.buffering();
     let tlen = usize::from(hdr.tlen);
     let mut buf = std::mem::take(&mut chip.tp.txbuf);
     let mut record = std::mem::take(&mut chip.tp.record);
     buf.clear();
-    buf.push(hdr.adr);
+    buf.push(hdr.adr());
     let mut words = 0usize;
     let mut overrun = false;
     let mut fifo_short = false;
@@ -182,7 +180,7 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
         if buffering != Buffering::Dma && !c.control.svfl {
             // The usual container: its words go from the valid buffer straight into the
             // telegram (no record in between).
-            let from = c.buffer(buffering, hdr.val);
+            let from = c.buffer(buffering, hdr.val());
             let ram = &chip.ram;
             match walk::words(ram, from, len) {
                 Some(data) => {
@@ -217,7 +215,7 @@ fn assemble(chip: &mut Chip, at: u16, hdr: &TxHeader) {
             }
             // A service container's record.
             _ => {
-                let from = c.buffer(buffering, hdr.val);
+                let from = c.buffer(buffering, hdr.val());
                 record.extend(words_or_zero(&chip.ram, from, len));
             }
         }
