@@ -252,9 +252,11 @@ fn count_error(chip: &mut Chip, at: u16) {
 }
 
 /// The frame being received ended at `tick`.
-// Not inlined: its place in the event loop's code was measured (session 18: inlined into
-// `Chip::advance_to`, a ring-8 cycle took ≈ 250 instructions more).
-#[inline(never)]
+// Inlined into `Chip::advance_to` (its one call, `step`): measured both ways again with
+// the receive header held as `RxHead` (session 26, rxchain: kept out of line, a ring-8
+// cycle took ≈ 500 instructions more; session 18 had found the opposite with the header
+// decoded).
+#[inline]
 pub(super) fn frame_end(chip: &mut Chip, tick: u64) {
     let Some(now) = chip.tp.rx_now.take() else {
         return;
