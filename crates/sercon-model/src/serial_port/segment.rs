@@ -150,6 +150,10 @@ impl LineSegment {
 
     /// The light level of the line at instant `t` ≥ `start` as far as this segment decides it
     /// (the level of the bit time in progress at `t`; `level_before` at `start` itself).
+    // Inlined at every call: with the release's second own-telegram turn
+    // (`Transmitter::release_merged_then_own`) LLVM kept it out of line, which cost more
+    // than that turn saves.
+    #[inline(always)]
     pub fn level_at(&self, t: Instant) -> bool {
         let elapsed = t.saturating_duration_since(self.start).as_picos();
         let bt = self.bit_time.as_picos().max(1);

@@ -113,6 +113,10 @@ pub(crate) struct Transmitter {
 
 impl Own {
     /// The segment of this telegram on a line at light level `level` before its first bit.
+    // Inlined at every call: with the release's second own-telegram turn
+    // (`Transmitter::release_merged_then_own`) LLVM kept it out of line, which cost more
+    // than that turn saves.
+    #[inline(always)]
     fn segment(self, level: bool, coded: &mut CodedFrames) -> Option<LineSegment> {
         let c = coded.coded(&self.telegram, self.presync, self.len, level)?;
         Some(LineSegment {
@@ -237,6 +241,10 @@ impl Transmitter {
     }
 
     /// The light level of the output line at `t` (at or after the last release).
+    // Inlined at every call: with the release's second own-telegram turn
+    // (`Transmitter::release_merged_then_own`) LLVM kept it out of line, which cost more
+    // than that turn saves.
+    #[inline(always)]
     pub(crate) fn level_at(&self, t: Instant) -> bool {
         // An inverted segment's level is the other one at every instant (bits, dark and
         // light swapped, filler from the other level): `LineSegment::inverted`.
@@ -348,6 +356,9 @@ impl Transmitter {
     /// followed as one, the silent resume after an own telegram taken with it), which leave
     /// the same state as the general loop's turns one by one.
     fn release_with<const SHORT: bool>(&mut self, now: Instant) {
+        if SHORT {
+            self.release_merged_then_own(now);
+        }
         loop {
             // The queues' fronts once per turn.
             let (own_at, bg_at) = self.fronts();
@@ -507,6 +518,79 @@ impl Transmitter {
             }
         }
         self.next_release = self.compute_next_release();
+    }
+
+    /// The release loop's first two turns when they are a merged follow and then the first
+    /// own telegram (a ring slave's take: its MST and MDT copies, then its AT), done as
+    /// one: the background's only entry and the copy merged after it
+    /// ([`Transmitter::tail`]) start before the own telegram (which would win a tie), the
+    /// first past the last own telegram's end, no resume pending, and the own telegram
+    /// starts at or before `now`. The merged copy is followed (410B §1 repeater; spec-notes
+    /// "Merged carried copies") and at once shadowed by the own telegram, which is coded
+    /// from the level it leaves and keeps it for the resume, as the two turns leave it;
+    /// the loop goes on from there. Debug builds compare every release with the general
+    /// loop ([`Transmitter::release`]).
+    #[inline(always)]
+    fn release_merged_then_own(&mut self, now: Instant) {
+        let (Some(own), Some(first), Some((tail, tail_inv))) = (
+            self.own.front(),
+            self.background.front(),
+            self.tail.as_ref(),
+        ) else {
+            return;
+        };
+        let (o, t0) = (own.start, first.seg.start);
+        // The first copy starts before the merged one (the merge's condition), so before
+        // the own telegram too.
+        debug_assert!(t0 < tail.start);
+        if self.resume_at.is_some()
+            || self.background.len() != 1
+            || o > now
+            || tail.start >= o
+            || t0 < self.own_until
+        {
+            return;
+        }
+        // The follow's inversion by the line's level at the first copy's start, then the
+        // level the merged copy leaves at the own telegram's start (the NRZI coder
+        // continues from it). Found in place: the copies are moved once, at the end.
+        let invert = tail_inv[usize::from(self.level_at(t0))];
+        let level = tail.level_at(o) != invert;
+        let Some(own) = self.own.pop_front() else {
+            return;
+        };
+        // The first copy, the queue's only entry (one pop, not a truncate's loop).
+        drop(self.background.pop_front());
+        let Some(mut seg) = own.segment(level, &mut self.coded) else {
+            // Not encodable: the follow alone, as its turn leaves it.
+            self.resume_at = None;
+            self.silent_resume = false;
+            if let Some((tail, _)) = self.tail.take() {
+                self.follow(tail, invert);
+            }
+            return;
+        };
+        // The followed copy is the background in effect, shadowed now: kept for the resume
+        // as queued (`bg_active`), the line's last segment the own telegram (`emit`).
+        let own_until = seg.end().unwrap_or(o);
+        self.own_until = own_until;
+        self.resume_at = Some(own_until);
+        // 410B §1: the filler the slave repeats resumes after its own telegram (spec-notes
+        // "Implied filler"), as in the loop's own turn.
+        self.silent_resume = self.implied_filler
+            && self
+                .tail
+                .as_ref()
+                .is_some_and(|(tail, _)| resumes_filler(tail, own_until, seg.bit_time));
+        self.bg_active = self.tail.take().map(|(tail, _)| tail);
+        seg.then_filler = self.silent_resume;
+        let open = seg.then_filler;
+        self.emit(seg);
+        self.implied_open = open;
+        if open && own_until <= now && self.resume_stays_silent() {
+            self.resume_at = None;
+            self.silent_resume = false;
+        }
     }
 
     /// Whether the resume at `own_until` is taken as a silent one by the release loop
@@ -778,6 +862,86 @@ mod tests {
         assert!(!out.is_empty(), "the resumed rest is released");
         assert_eq!(out, plain_out);
         assert_eq!(format!("{plain:?}"), format!("{:?}", tx.separate()));
+    }
+
+    /// The merged follow and the own telegram after it are taken as one
+    /// (`Transmitter::release_merged_then_own`) only when the loop's first two turns would
+    /// be exactly those: not with a resume pending, nor with a resumed rest queued before
+    /// the merged entry, nor with copies that start before the last own telegram's end
+    /// (shadowed). Each case against the loop of separate copies, state and output.
+    #[test]
+    fn a_merged_copy_then_own_is_taken_as_one_only_when_the_loop_would() {
+        let bt = Duration::from_picos(BT);
+        let at = |bits: u64| Instant::from_picos(bits * BT);
+        let bits = |n: usize, phase: usize| {
+            let mut v = BitVec::new();
+            for i in 0..n {
+                v.push((i + phase) % 3 == 0);
+            }
+            v
+        };
+        let own_at = Instant::from_picos(21 * BT / 2);
+        // The instant the own telegram ends (a release there queues the rest of the copy
+        // it shadows, which resumes at its next bit boundary).
+        const OWN_END: Instant = Instant::from_picos(0);
+        // Each case: the releases before the copies are queued, where the copies start,
+        // and the releases after; then an own telegram is queued after the copies and all
+        // is released.
+        let mut cases: Vec<(Vec<Instant>, u64, Vec<Instant>)> = vec![
+            // A resume pending (the own telegram still being sent).
+            (vec![at(12)], 300, vec![]),
+            // A resumed rest queued before the merged entry.
+            (vec![at(12)], 300, vec![OWN_END]),
+            // The case the short path takes.
+            (vec![at(12), at(200)], 300, vec![]),
+        ];
+        // Copies that start before the last own telegram's end (shadowed), its resume
+        // taken: at a few offsets, so that the level they leave differs from the line's.
+        for copies in 16..24 {
+            cases.push((vec![at(12), at(200)], copies, vec![]));
+        }
+        for (case, (before, copies, after)) in cases.into_iter().enumerate() {
+            for implied in [false, true] {
+                let mut tx = Transmitter {
+                    carried_forwarding: true,
+                    implied_filler: implied,
+                    ..Transmitter::default()
+                };
+                tx.push_background(LineSegment::steady(at(0), bt, LineSignal::Filler, false));
+                tx.transmit(own_at, bt, false, &[0x12, 0x34]);
+                tx.push_forwarded(LineSegment::bits(at(11), bt, bits(200, 0), false));
+                let release = |tx: &mut Transmitter, r: Instant| {
+                    let r = if r == OWN_END { tx.own_until } else { r };
+                    tx.release(r);
+                    tx.take_released(&mut Vec::new());
+                };
+                for &r in &before {
+                    release(&mut tx, r);
+                }
+                tx.push_forwarded(LineSegment::bits(at(copies), bt, bits(20, 1), true));
+                tx.push_forwarded(LineSegment {
+                    then_filler: true,
+                    ..LineSegment::bits(at(copies + 10), bt, bits(20, 2), false)
+                });
+                assert!(tx.tail.is_some(), "case {case}: the second copy is merged");
+                for &r in &after {
+                    release(&mut tx, r);
+                }
+                tx.transmit(at(copies + 40), bt, false, &[0x56]);
+                let mut plain = tx.separate();
+                let (mut out, mut plain_out) = (Vec::new(), Vec::new());
+                tx.release_with::<true>(at(copies + 400));
+                tx.take_released(&mut out);
+                plain.release_with::<false>(at(copies + 400));
+                plain.take_released(&mut plain_out);
+                assert_eq!(out, plain_out, "case {case}, implied {implied}");
+                assert_eq!(
+                    format!("{plain:?}"),
+                    format!("{:?}", tx.separate()),
+                    "case {case}, implied {implied}"
+                );
+            }
+        }
     }
 
     proptest! {
