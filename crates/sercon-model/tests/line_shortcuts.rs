@@ -26,6 +26,8 @@ const ENTXD_ALL: u16 = 0x3F;
 const REPON: u16 = 1 << 3;
 /// 816 §2.3.1: ENTSBAUD = 1 with SWBAUD16 = SWBAUD = 0 selects 16 Mbit/s.
 const ENTSBAUD: u16 = 1 << 10;
+/// 410B §4.1 1H.9 POLTXD: light on when TxD = 1.
+const POLTXD: u16 = 1 << 9;
 
 /// What a chip shows: received frames, RAM, registers 00H–3FH, pin levels.
 fn state(c: &mut Chip) -> (Vec<RxFrame>, Vec<u16>, Vec<u16>, Vec<bool>) {
@@ -374,9 +376,13 @@ fn an_edgeless_tail_raises_fibbr_with_or_without_the_filler() {
 }
 
 /// The segments a REPON sender releases for `steps`, with its forwarded copies released or
-/// not (`Chip::set_forward_output`), and the starts of those copies.
-fn released(steps: &[Step], forward: bool) -> (Vec<LineSegment>, Vec<Instant>) {
+/// not (`Chip::set_forward_output`), and the starts of those copies; `poltxd`: 410B §4.1
+/// 1H.9 POLTXD set, POLRXD not (the repeater inverts the light of what it forwards).
+fn released(steps: &[Step], forward: bool, poltxd: bool) -> (Vec<LineSegment>, Vec<Instant>) {
     let mut sender = chip(true);
+    if poltxd {
+        sender.write_register(1, ENTSBAUD | REPON | POLTXD);
+    }
     sender.set_forward_output(forward);
     let bt = Duration::from_nanos(62) + Duration::from_picos(500);
     let latency = bt.saturating_mul(sercon_model::serial_port::REPEATER_LATENCY_BITS);
@@ -424,9 +430,10 @@ proptest! {
     #[test]
     fn without_forwarded_copies_a_repeater_releases_the_rest_unchanged(
         steps in proptest::collection::vec(step(), 1..30),
+        poltxd in any::<bool>(),
     ) {
-        let (with, copies) = released(&steps, true);
-        let (without, _) = released(&steps, false);
+        let (with, copies) = released(&steps, true, poltxd);
+        let (without, _) = released(&steps, false, poltxd);
         // A copy starts a latency after its input and has no hint (the inputs have none; own
         // telegrams have theirs).
         let rest: Vec<&LineSegment> = with

@@ -221,15 +221,21 @@ impl SerialPort {
         mut frames: F,
     ) -> bool {
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
-        let fwd = (self.cfg.tx_mode == TxMode::Repeat).then(|| {
-            if self.tx.carried_forwarding {
+        let mut fwd = None;
+        if self.cfg.tx_mode == TxMode::Repeat {
+            if self.tx.carried_forwarding && self.cfg.polrxd == self.cfg.poltxd {
                 // A copy the user carries is only followed: its hint is never read (a
-                // resume cuts it; spec-notes "Followed copies"), so it is not copied.
-                self.forwarded(seg.without_hint())
+                // resume cuts it; spec-notes "Followed copies"), so it is not copied; not
+                // inverted (the polarities agree), it is built where it is queued (the
+                // receiver reads nothing of the transmitter: queued before the input as
+                // after it).
+                self.tx.push_carried(&seg, REPEATER_LATENCY_BITS);
+            } else if self.tx.carried_forwarding {
+                fwd = Some(self.forwarded(seg.without_hint()));
             } else {
-                self.forwarded(seg.clone())
+                fwd = Some(self.forwarded(seg.clone()));
             }
-        });
+        }
         let log = &mut self.rx_log;
         let mut sink = |f: HeardFrame| {
             log.push(&f);

@@ -179,6 +179,83 @@ impl Transmitter {
         self.queue_background(seg, carried);
     }
 
+    /// [`Transmitter::push_forwarded`] of the repeater's copy of the received `seg` with
+    /// carried forwarding on and the polarities alike (410B §1: regenerated, so not
+    /// distorted, `latency_bits` bit times later; no hint, "Followed copies"), built in
+    /// place. The two usual cases inline (an empty queue, and the merge of
+    /// [`Transmitter::tail`]); the rest as [`Transmitter::queue_background`].
+    /// Debug builds compare the transmitter with one given the copy the general way.
+    #[inline(always)]
+    pub(crate) fn push_carried(&mut self, seg: &LineSegment, latency_bits: u64) {
+        debug_assert!(self.carried_forwarding);
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut general = self.clone();
+            let latency = seg.bit_time.saturating_mul(latency_bits);
+            general.push_forwarded(LineSegment {
+                distorted: false,
+                ..seg.without_hint().delayed(latency)
+            });
+            format!("{general:?}")
+        };
+        self.push_carried_in_place(seg, latency_bits);
+        #[cfg(debug_assertions)]
+        debug_assert_eq!(
+            general,
+            format!("{self:?}"),
+            "a carried copy built in place differs from the general push"
+        );
+    }
+
+    /// [`Transmitter::push_carried`] without its check.
+    #[inline(always)]
+    fn push_carried_in_place(&mut self, seg: &LineSegment, latency_bits: u64) {
+        let start = seg
+            .start
+            .saturating_add(seg.bit_time.saturating_mul(latency_bits));
+        let copy = || LineSegment {
+            start,
+            bit_time: seg.bit_time,
+            signal: seg.signal.clone(),
+            level_before: seg.level_before,
+            hint: None,
+            distorted: false,
+            then_filler: seg.then_filler,
+        };
+        if self.tail.is_none() {
+            if self.background.is_empty() {
+                // What `queue_background` does with nothing queued: the copy is the
+                // queue, and the next release the earlier of the one kept and its start.
+                self.background.push_back(Queued {
+                    seg: copy(),
+                    carried: true,
+                });
+                self.next_release = earliest(self.next_release, Some(start));
+                debug_assert_eq!(self.next_release, self.compute_next_release());
+                debug_assert_eq!(self.uncarried, self.count_uncarried());
+                return;
+            }
+            if self.background.len() == 1
+                && let Some(b) = self.background.back()
+                && b.carried
+                && b.seg.start < start
+            {
+                // The merge (`queue_background`).
+                let bits = matches!(seg.signal, LineSignal::Bits(_));
+                let level = b.seg.level_at(start);
+                let first = single_inv(&b.seg);
+                let inv = [
+                    bits && seg.level_before != (level != first[0]),
+                    bits && seg.level_before != (level != first[1]),
+                ];
+                self.tail = Some((copy(), inv));
+                debug_assert_eq!(self.next_release, self.compute_next_release());
+                return;
+            }
+        }
+        self.queue_background(copy(), true);
+    }
+
     fn queue_background(&mut self, seg: LineSegment, carried: bool) {
         let start = seg.start;
         if self.tail.is_some() {
@@ -985,7 +1062,8 @@ mod tests {
                         };
                         plain.push_forwarded(seg.clone());
                         plain.split_merged();
-                        tx.push_forwarded(seg);
+                        // Built in place (the repeater's latency left out).
+                        tx.push_carried(&seg, 0);
                     }
                     Op::Background { off, filler } => {
                         let signal = if filler { LineSignal::Filler } else { LineSignal::Dark };
