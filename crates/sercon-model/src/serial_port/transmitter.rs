@@ -162,7 +162,11 @@ impl Transmitter {
         let end = own.end();
         self.own.push_back(own);
         self.busy_until = end;
-        self.next_release = self.compute_next_release();
+        // Own telegrams are queued in order of start (each at or after the end of the one
+        // before): the first own start is as it was, or this one when none was queued;
+        // either way the next release is the earlier of the one kept and this start.
+        self.next_release = earliest(self.next_release, Some(start));
+        debug_assert_eq!(self.next_release, self.compute_next_release());
         Some(Placed { start, end })
     }
 
@@ -433,8 +437,16 @@ impl Transmitter {
     /// followed as one, the silent resume after an own telegram taken with it), which leave
     /// the same state as the general loop's turns one by one.
     fn release_with<const SHORT: bool>(&mut self, now: Instant) {
-        if SHORT {
-            self.release_merged_then_own(now);
+        if SHORT && self.release_merged_then_own(now) && self.own.is_empty() {
+            // Nothing left queued (the background's only entry and the copy merged after
+            // it followed, the one own telegram released) and no resume pending (its
+            // silent resume taken with it): the loop would find nothing due.
+            if self.resume_at.is_none() {
+                debug_assert!(self.background.is_empty() && self.tail.is_none());
+                self.next_release = None;
+                debug_assert_eq!(self.next_release, self.compute_next_release());
+                return;
+            }
         }
         loop {
             // The queues' fronts once per turn.
@@ -608,13 +620,13 @@ impl Transmitter {
     /// the loop goes on from there. Debug builds compare every release with the general
     /// loop ([`Transmitter::release`]).
     #[inline(always)]
-    fn release_merged_then_own(&mut self, now: Instant) {
+    fn release_merged_then_own(&mut self, now: Instant) -> bool {
         let (Some(own), Some(first), Some((tail, tail_inv))) = (
             self.own.front(),
             self.background.front(),
             self.tail.as_ref(),
         ) else {
-            return;
+            return false;
         };
         let (o, t0) = (own.start, first.seg.start);
         // The first copy starts before the merged one (the merge's condition), so before
@@ -626,7 +638,7 @@ impl Transmitter {
             || tail.start >= o
             || t0 < self.own_until
         {
-            return;
+            return false;
         }
         // The follow's inversion by the line's level at the first copy's start, then the
         // level the merged copy leaves at the own telegram's start (the NRZI coder
@@ -634,7 +646,7 @@ impl Transmitter {
         let invert = tail_inv[usize::from(self.level_at(t0))];
         let level = tail.level_at(o) != invert;
         let Some(own) = self.own.pop_front() else {
-            return;
+            return false;
         };
         // The first copy, the queue's only entry (one pop, not a truncate's loop).
         drop(self.background.pop_front());
@@ -645,7 +657,7 @@ impl Transmitter {
             if let Some((tail, _)) = self.tail.take() {
                 self.follow(tail, invert);
             }
-            return;
+            return true;
         };
         // The followed copy is the background in effect, shadowed now: kept for the resume
         // as queued (`bg_active`), the line's last segment the own telegram (`emit`).
@@ -668,6 +680,7 @@ impl Transmitter {
             self.resume_at = None;
             self.silent_resume = false;
         }
+        true
     }
 
     /// Whether the resume at `own_until` is taken as a silent one by the release loop
@@ -835,6 +848,7 @@ fn single_inv(seg: &LineSegment) -> [bool; 2] {
 
 /// Whether background `bg` resumed at `at` is plain filler of bit time `bit_time` (filler,
 /// or the implied filler of a forwarded telegram that has ended by then), undistorted.
+#[inline(always)]
 fn resumes_filler(bg: &LineSegment, at: Instant, bit_time: Duration) -> bool {
     let filler = match &bg.signal {
         LineSignal::Filler => true,
@@ -945,7 +959,8 @@ mod tests {
     /// (`Transmitter::release_merged_then_own`) only when the loop's first two turns would
     /// be exactly those: not with a resume pending, nor with a resumed rest queued before
     /// the merged entry, nor with copies that start before the last own telegram's end
-    /// (shadowed). Each case against the loop of separate copies, state and output.
+    /// (shadowed); and the loop goes on after it (a second own telegram queued). Each case
+    /// against the loop of separate copies, state and output.
     #[test]
     fn a_merged_copy_then_own_is_taken_as_one_only_when_the_loop_would() {
         let bt = Duration::from_picos(BT);
@@ -978,7 +993,7 @@ mod tests {
             cases.push((vec![at(12), at(200)], copies, vec![]));
         }
         for (case, (before, copies, after)) in cases.into_iter().enumerate() {
-            for implied in [false, true] {
+            for (implied, owns) in [(false, 1), (true, 1), (false, 2), (true, 2)] {
                 let mut tx = Transmitter {
                     carried_forwarding: true,
                     implied_filler: implied,
@@ -1005,17 +1020,22 @@ mod tests {
                     release(&mut tx, r);
                 }
                 tx.transmit(at(copies + 40), bt, false, &[0x56]);
+                if owns == 2 {
+                    // A second own telegram queued behind the first (then the release does
+                    // not end with the first).
+                    tx.transmit(at(copies + 40), bt, false, &[0x78]);
+                }
                 let mut plain = tx.separate();
                 let (mut out, mut plain_out) = (Vec::new(), Vec::new());
                 tx.release_with::<true>(at(copies + 400));
                 tx.take_released(&mut out);
                 plain.release_with::<false>(at(copies + 400));
                 plain.take_released(&mut plain_out);
-                assert_eq!(out, plain_out, "case {case}, implied {implied}");
+                assert_eq!(out, plain_out, "case {case}, implied {implied}, {owns} own");
                 assert_eq!(
                     format!("{plain:?}"),
                     format!("{:?}", tx.separate()),
-                    "case {case}, implied {implied}"
+                    "case {case}, implied {implied}, {owns} own"
                 );
             }
         }
