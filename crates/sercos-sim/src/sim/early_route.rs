@@ -90,7 +90,7 @@ impl Simulation {
         };
         debug_assert!(node.expect.is_empty(), "a copy expected on the fast path");
         // `route_output`: the output after the AT, its start in simulation time, the floor.
-        node.resume = seg.end().filter(|_| !seg.then_filler);
+        node.resume = if seg.then_filler { None } else { seg.end() };
         let Some(mut floor) = self.out_floors.get(j) else {
             return;
         };
@@ -99,8 +99,13 @@ impl Simulation {
         } else {
             node.map_out_after(&mut seg, floor);
         }
+        // `Node::put_out` on the fast path (no levels followed): the line taken to its end.
+        debug_assert!(!node.track_levels, "levels followed on the fast path");
+        let end = seg.end();
         let before = floor;
-        if node.put_out(&mut floor, &mut seg, true) && before > node.chip_out_end {
+        let cut = seg.start < floor;
+        floor = end.unwrap_or(seg.start);
+        if cut && before > node.chip_out_end {
             // It cut a telegram the fast path put out ahead of the chip (`route_output`).
             self.stats.fast_path_collisions += 1;
         }
@@ -115,7 +120,7 @@ impl Simulation {
         if self.faulty {
             self.count_steady_receivers(cur);
         }
-        self.pass_plain(&mut cur, &mut seg);
+        self.pass_plain_ending(&mut cur, &mut seg, end);
         debug_assert_eq!(cur + 1, n, "the plain repeaters end before the master");
         let Some(delay) = self.seg_delays.get(cur) else {
             return;

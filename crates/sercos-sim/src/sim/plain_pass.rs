@@ -68,9 +68,22 @@ impl Simulation {
     /// [`Simulation::propagate`] would (clean fibre, no delivery, identity clock, output
     /// floor), leaving `*cur` at the last of them.
     pub(super) fn pass_plain(&mut self, cur: &mut usize, seg: &mut LineSegment) {
+        let end = seg.end();
+        self.pass_plain_ending(cur, seg, end);
+    }
+
+    /// [`Simulation::pass_plain`] of `seg` ending at `end` (`LineSegment::end`, found by the
+    /// caller).
+    #[inline]
+    pub(super) fn pass_plain_ending(
+        &mut self,
+        cur: &mut usize,
+        seg: &mut LineSegment,
+        end: Option<Instant>,
+    ) {
+        debug_assert_eq!(end, seg.end(), "the segment's end");
         let first = *cur + 1;
         let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
-        let end = seg.end();
         let len = end.map_or(Duration::ZERO, |e| e.saturating_duration_since(seg.start));
         if end.is_none()
             && let Some(last) = self.plain_pass
