@@ -68,7 +68,7 @@ impl Simulation {
             self.buf = out;
             self.stats.ats_sent_on += deferred.len() as u64;
             if self.short_paths {
-                self.unserve_sent_on(&deferred);
+                self.unserve_sent_on(&deferred, plain);
             }
         }
         deferred.clear();
@@ -156,9 +156,13 @@ impl Simulation {
     /// (`refresh_hop`) unchanged (only hosts, power and clock faults change it). Such a
     /// slave only has its wake set, once the event's nodes are served, as `deliver` leaves
     /// a node with nothing to serve. Debug builds check that the serve would do nothing.
-    fn unserve_sent_on(&mut self, sent: &[usize]) {
+    ///
+    /// `plain`: the ATs went on a plain ring's fast path, where a slave's telegram reaches
+    /// no slave (`Simulation::propagate`): nothing came into a slave after the take, so no
+    /// output is due (debug builds check it).
+    fn unserve_sent_on(&mut self, sent: &[usize], plain: bool) {
         let now = self.now;
-        let mut any = false;
+        let mut removed = 0;
         for &j in sent {
             let Some(node) = self.nodes.get(j) else {
                 continue;
@@ -166,7 +170,7 @@ impl Simulation {
             if !self.is_touched.get(j).copied().unwrap_or(false)
                 || self.is_rewake.get(j).copied().unwrap_or(true)
                 || !node.quiet_host()
-                || node.chip.line_output_due_at(node.clock.to_local(now))
+                || (!plain && node.chip.line_output_due_at(node.clock.to_local(now)))
             {
                 continue;
             }
@@ -181,9 +185,20 @@ impl Simulation {
                 *r = true;
                 self.rewake.push(j);
             }
-            any = true;
+            removed += 1;
         }
-        if any {
+        // `touched` holds each touched node once (`touch`) and `sent` each slave once
+        // (`deferred_may_go`): when as many left it as it holds, none is left (the usual
+        // case: only the slaves sent on were touched).
+        if removed == self.touched.len() {
+            debug_assert!(
+                self.touched
+                    .iter()
+                    .all(|&k| !self.is_touched.get(k).copied().unwrap_or(false)),
+                "a touched node left out"
+            );
+            self.touched.clear();
+        } else if removed > 0 {
             let touched = &self.is_touched;
             self.touched
                 .retain(|&k| touched.get(k).copied().unwrap_or(false));

@@ -134,6 +134,15 @@ fn slaves_with_interrupts_run_the_same_without_the_short_paths() {
     assert!(quiet.ats_sent_on > 0, "{quiet:?}");
 }
 
+/// Slaves 2 to 4 take INT0 on their AT's end, the others are quiet: after the ATs are sent
+/// on, only the quiet slaves leave the touched list (`unserve_sent_on`); the others are
+/// served as they would be.
+#[test]
+fn some_slaves_with_interrupts_run_the_same_without_the_short_paths() {
+    let quiet = same_either_way_hosts(&six_slaves(), &[], us(1600), "3 clearing slaves", 2..5);
+    assert!(quiet.ats_sent_on > 0, "{quiet:?}");
+}
+
 /// Fibres of no length: the master's telegram reaches the first slave at its start, whose
 /// run ahead then ends just before the master's next wake, and its wake comes first (the
 /// master's next wake is not joined, `sim/join_wake.rs`).
