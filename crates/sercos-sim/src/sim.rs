@@ -1174,6 +1174,10 @@ impl Simulation {
     fn propagate_master_plain(&mut self, from: usize, mut seg: LineSegment) {
         let n = self.nodes.len();
         let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        if from == 0 && self.run_end.get(1) == Some(&n) {
+            self.sweep_master_plain(seg, lat);
+            return;
+        }
         let mut cur = from;
         for _ in 0..n {
             let next = if cur + 1 >= n { 0 } else { cur + 1 };
@@ -1206,6 +1210,67 @@ impl Simulation {
                 return;
             }
             cur = next;
+        }
+    }
+
+    /// [`Simulation::propagate_master_plain`] of the master's segment when every slave is a
+    /// plain repeater (`run_end`: powered, repeating, on the simulation's clock; 410B §1:
+    /// "The slaves regenerate and repeat their received data"): each gets it and puts it
+    /// out `lat` later, not before its output floor, and the master gets it back. The
+    /// floors are a sweep (`OutFloors::open_sweep`): read and written as they are, and kept
+    /// as one run after it where the segment was held up at none but the first slave's
+    /// (then each is one offset above the hops, `OutFloors` module notes), so that the
+    /// slaves' ATs after it pass in constant time (`sim/plain_pass.rs`).
+    fn sweep_master_plain(&mut self, mut seg: LineSegment, lat: Duration) {
+        let n = self.nodes.len();
+        // Every slave's floor is written below (nothing reads the last plain pass before).
+        self.floors_written(1..n);
+        self.out_floors.open_sweep(lat);
+        let mut uniform = true;
+        for next in 1..n {
+            let Some(delay) = self.seg_delays.get(next - 1) else {
+                return;
+            };
+            seg.start = seg.start.saturating_add(*delay);
+            debug_assert!(
+                self.segments.get(next - 1).is_some_and(|s| s.plain)
+                    && self
+                        .nodes
+                        .get(next)
+                        .is_some_and(|n| n.off_windows.is_empty()
+                            && n.powered
+                            && n.repeating
+                            && n.clock.is_identity()),
+                "a plain ring's fibre or slave is not plain"
+            );
+            self.deliver(next, seg.clone(), 0, true);
+            // `repeat_out` on the simulation's clock.
+            seg.start = seg.start.saturating_add(lat);
+            seg.distorted = false;
+            let (Some(node), Some(mut floor)) =
+                (self.nodes.get_mut(next), self.out_floors.swept(next))
+            else {
+                return;
+            };
+            if seg.start < floor && !matches!(seg.signal, LineSignal::Dark | LineSignal::Light) {
+                if matches!(seg.signal, LineSignal::Bits(_)) {
+                    self.stats.fast_path_collisions += 1;
+                }
+                seg.start = floor;
+                // Held at the first floor, the others are above it by the hops alone.
+                uniform &= next == 1;
+            }
+            node.put_out(&mut floor, &mut seg, false);
+            self.out_floors.sweep_set(next, floor);
+        }
+        self.out_floors.close_sweep(1..n, uniform);
+        // Into the master (`propagate_master_plain`'s last hop).
+        let Some(delay) = self.seg_delays.get(n - 1) else {
+            return;
+        };
+        seg.start = seg.start.saturating_add(*delay);
+        if self.nodes.first().is_some_and(|m| m.powered) {
+            self.deliver(0, seg, 0, false);
         }
     }
 

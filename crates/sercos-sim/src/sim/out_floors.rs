@@ -197,6 +197,69 @@ impl OutFloors {
         (out, held)
     }
 
+    /// Starts a sweep: a segment carried hop by hop through repeaters in ring order (a
+    /// master's segment round a plain ring), whose floors are read and written one by one
+    /// ([`OutFloors::swept`], [`OutFloors::sweep_set`]) and kept as one run at its end where
+    /// they are one offset above the hops ([`OutFloors::close_sweep`]). The uniform run is
+    /// written out and the prefix sums taken for `lat`.
+    #[inline]
+    pub(super) fn open_sweep(&mut self, lat: Duration) {
+        if self.prefix_lat != Some(lat) {
+            self.use_lat(lat);
+        }
+        self.write_out();
+    }
+
+    /// Node `m`'s floor in a sweep.
+    #[inline]
+    pub(super) fn swept(&self, m: usize) -> Option<Instant> {
+        debug_assert!(self.uniform.is_none(), "a floor read in a sweep");
+        self.floors.get(m).copied()
+    }
+
+    /// Sets node `m`'s floor in a sweep.
+    #[inline]
+    pub(super) fn sweep_set(&mut self, m: usize, v: Instant) {
+        debug_assert!(self.uniform.is_none(), "a floor set in a sweep");
+        if let Some(f) = self.floors.get_mut(m) {
+            *f = v;
+        }
+    }
+
+    /// Ends a sweep through `run`; `uniform`: its segment, of one length, was held up at
+    /// no floor but the first's and every repeater is on the simulation's clock. Then
+    /// every floor of the run is its start there plus that length, one offset above the
+    /// hops (module notes), and the run is kept so where no sum saturated.
+    pub(super) fn close_sweep(&mut self, run: Range<usize>, uniform: bool) {
+        debug_assert!(self.uniform.is_none(), "a sweep closed twice");
+        if !uniform || run.is_empty() {
+            return;
+        }
+        let (Some(q), Some(f), Some(last)) = (
+            self.prefix.get(run.start),
+            self.floors.get(run.start),
+            run.end.checked_sub(1).and_then(|i| self.floors.get(i)),
+        ) else {
+            return;
+        };
+        if i128::from(last.as_picos()) >= SAFE_PS {
+            return;
+        }
+        let offset = i128::from(f.as_picos()) - q;
+        if cfg!(debug_assertions) {
+            for m in run.clone() {
+                let want = self.prefix.get(m).map(|q| q + offset);
+                let got = self.floors.get(m).map(|f| i128::from(f.as_picos()));
+                debug_assert_eq!(want, got, "floor {m} after a sweep");
+            }
+        }
+        self.uniform = Some(Uniform {
+            from: run.start,
+            to: run.end,
+            offset,
+        });
+    }
+
     /// Debug builds: the constant-time pass gives what the walk gives.
     fn debug_check(
         &self,
@@ -251,9 +314,9 @@ mod tests {
         (at, delays.len())
     }
 
-    /// Passes and single floors read and written in random order (runs anywhere, telegrams
-    /// held up by earlier ones, steady signals, two latencies): the same starts and floors as
-    /// plain floors walked hop by hop; many passes take the constant-time way.
+    /// Passes, sweeps and single floors read and written in random order (runs anywhere,
+    /// telegrams held up by earlier ones, steady signals, two latencies): the same starts and
+    /// floors as plain floors walked hop by hop; many passes take the constant-time way.
     #[test]
     fn same_as_walking_every_hop() {
         let mut uniform_passes = 0;
@@ -272,6 +335,30 @@ mod tests {
                         let v = Instant::from_picos(now + rng.next(90_000));
                         fast.set(m, v);
                         slow[m] = v;
+                    }
+                    1 => {
+                        // A sweep (a master's telegram hop by hop, `propagate_master_plain`).
+                        let first = 1 + rng.next(n as u64 - 1) as usize;
+                        let end = first + 1 + rng.next((n - first) as u64) as usize;
+                        let lat = Duration::from_picos(125_000);
+                        let len = Duration::from_picos(rng.next(3) * rng.next(200_000));
+                        let mut at = Instant::from_picos(now);
+                        let mut uniform = true;
+                        fast.open_sweep(lat);
+                        for m in first..end {
+                            at = at
+                                .saturating_add(Duration::from_picos(delays[m]))
+                                .saturating_add(lat);
+                            let floor = fast.swept(m);
+                            assert_eq!(floor, Some(slow[m]), "seed {seed} step {step} sweep {m}");
+                            if at < slow[m] {
+                                at = slow[m];
+                                uniform &= m == first;
+                            }
+                            slow[m] = at.saturating_add(len);
+                            fast.sweep_set(m, slow[m]);
+                        }
+                        fast.close_sweep(first..end, uniform);
                     }
                     _ => {
                         let first = 1 + rng.next(n as u64 - 1) as usize;

@@ -138,6 +138,17 @@ impl Simulation {
         seg.distorted = false;
     }
 
+    /// The output floors of nodes `written` were written elsewhere
+    /// ([`Simulation::floor_written`] of each).
+    pub(super) fn floors_written(&mut self, written: std::ops::Range<usize>) {
+        if self
+            .plain_pass
+            .is_some_and(|p| written.start <= p.entry + p.run && p.entry + 1 < written.end)
+        {
+            self.plain_pass = None;
+        }
+    }
+
     /// An output floor of node `k` was written elsewhere: the last pass no longer stands if
     /// `k` is in its run.
     pub(super) fn floor_written(&mut self, k: usize) {
