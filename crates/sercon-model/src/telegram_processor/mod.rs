@@ -49,17 +49,23 @@ pub use crate::serial_port::RxFrame;
 pub(crate) enum Cur {
     /// A transmit telegram due at tick `start` (header read into NTH at `read`).
     Tx { at: u16, hdr: TxHead, start: u64 },
-    /// A receive telegram expected from tick `open`; with TCHK it must start by `close`.
+    /// A receive telegram expected from tick `open`; with TCHK (`hdr.tchk()`, never changed
+    /// while the header is current) it must start by `close`, which is 0 without (an
+    /// `Option` would make the current header, copied whole in the hot path, 8 bytes longer).
     Rx {
         at: u16,
         hdr: RxHead,
         open: u64,
-        close: Option<u64>,
+        close: u64,
         announced: bool,
     },
     /// The end marker, reached at `ready`; the block ends when the last telegram has.
     End { at: u16, ready: u64 },
 }
+
+// The current header stays four words long (its `Option` included): it is read and written
+// whole in the processor's hot path, where every byte more costs copies.
+const _: () = assert!(std::mem::size_of::<Option<Cur>>() == 32);
 
 /// A transmit header as the processor holds it from its reading into NTH (`load`) to its
 /// telegram's start (410B §4.2.1; 816 §2.10.1.2): word 0 as read, TLEN (word 2) and PT
@@ -377,6 +383,7 @@ impl TelegramProcessor {
             match b.cur {
                 Some(Cur::Tx { start, .. }) => consider(start),
                 Some(Cur::Rx {
+                    hdr,
                     open,
                     close,
                     announced,
@@ -384,8 +391,8 @@ impl TelegramProcessor {
                 }) => {
                     if !announced && events & INT_RWAIT != 0 {
                         consider(open);
-                    } else if let Some(c) = close {
-                        consider(c);
+                    } else if hdr.tchk() {
+                        consider(close);
                     }
                 }
                 Some(Cur::End { ready, .. }) if events & INT_COMEND != 0 => consider(ready),
@@ -581,10 +588,11 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
             // The window opens at this tick (after the events above of the same tick, which
             // may have moved on to another header).
             let _ = announce_opened(chip, tick);
-            if close == Some(tick) && held_in_window(chip, tick) {
+            let closes = hdr.tchk() && close == tick;
+            if closes && held_in_window(chip, tick) {
                 return;
             }
-            if close == Some(tick) {
+            if closes {
                 receive::missing(chip, at, hdr);
                 advance(chip, tick, hdr.pt);
             } else if open != tick {
@@ -616,7 +624,7 @@ fn held_in_window(chip: &mut Chip, close: u64) -> bool {
         ..
     }) = chip.tp.block.as_mut()
     {
-        *c = Some(end.max(close));
+        *c = end.max(close);
     }
     true
 }
@@ -893,10 +901,10 @@ fn load_rx(chip: &mut Chip, tick: u64, ptr: u16, ref_tick: u64, w: [u16; 5]) {
         let j2 = u64::from(chip.engine.regs.stored(Register::Jtrdel2));
         (
             at_us(chip, ref_tick, trt.saturating_sub(j1)).max(tick),
-            Some(at_us(chip, ref_tick, trt.saturating_add(j2)).max(tick)),
+            at_us(chip, ref_tick, trt.saturating_add(j2)).max(tick),
         )
     } else {
-        (tick, None)
+        (tick, 0)
     };
     set_cur(
         chip,

@@ -208,7 +208,7 @@ fn accept(chip: &mut Chip, tick: u64, at_tick: u64, bytes: &[u8]) -> RxRole {
     };
     // 410B §4.2.1 TCHK: "The time of receiving is checked": outside the window the frame
     // is not this telegram.
-    if at_tick < open || close.is_some_and(|c| at_tick > c) {
+    if at_tick < open || (hdr.tchk() && at_tick > close) {
         return RxRole::Ignored;
     }
     let adr = bytes.first().copied().unwrap_or(0);
