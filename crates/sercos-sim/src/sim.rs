@@ -42,7 +42,7 @@ mod test_lcg;
 mod test_state;
 mod wake_queue;
 
-use out_floors::OutFloors;
+use out_floors::{Crossing, OutFloors};
 use plain_pass::PlainPass;
 use wake_queue::WakeQueue;
 
@@ -1220,11 +1220,45 @@ impl Simulation {
     /// floors are a sweep (`OutFloors::open_sweep`): read and written as they are, and kept
     /// as one run after it where the segment was held up at none but the first slave's
     /// (then each is one offset above the hops, `OutFloors` module notes), so that the
-    /// slaves' ATs after it pass in constant time (`sim/plain_pass.rs`).
+    /// slaves' ATs after it pass in constant time (`sim/plain_pass.rs`). A segment entering
+    /// at or above every floor's offset over the hops is held up at none
+    /// (`OutFloors::free_sweep`): the floors are kept as that run at once, none read or
+    /// written hop by hop.
     fn sweep_master_plain(&mut self, mut seg: LineSegment, lat: Duration) {
         let n = self.nodes.len();
         // Every slave's floor is written below (nothing reads the last plain pass before).
         self.floors_written(1..n);
+        let crossing = Crossing {
+            start: seg.start,
+            len: seg
+                .end()
+                .map_or(Duration::ZERO, |e| e.saturating_duration_since(seg.start)),
+            lat,
+        };
+        if self.out_floors.free_sweep(1..n, crossing) {
+            // Held up at no floor (`OutFloors::free_sweep`; `repeat_out` on the simulation's
+            // clock): only the hops and the latency.
+            for next in 1..n {
+                let Some(delay) = self.seg_delays.get(next - 1) else {
+                    return;
+                };
+                seg.start = seg.start.saturating_add(*delay);
+                debug_assert!(
+                    self.nodes.get(next).is_some_and(|n| !n.track_levels),
+                    "levels followed on the fast path"
+                );
+                self.deliver(next, seg.clone(), 0, true);
+                seg.start = seg.start.saturating_add(lat);
+                seg.distorted = false;
+            }
+            if let Some(delay) = self.seg_delays.get(n - 1) {
+                seg.start = seg.start.saturating_add(*delay);
+                if self.nodes.first().is_some_and(|m| m.powered) {
+                    self.deliver(0, seg, 0, false);
+                }
+            }
+            return;
+        }
         self.out_floors.open_sweep(lat);
         let mut uniform = true;
         for next in 1..n {

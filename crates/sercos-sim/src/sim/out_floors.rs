@@ -13,6 +13,12 @@
 //! are kept as that offset over the run ([`Uniform`]) and written out only when a single
 //! floor is read or written through [`OutFloors::get`] / [`OutFloors::set`] or a pass
 //! covers part of the run.
+//!
+//! An upper bound of every repeater's `floor − Q` is kept as well (the ceiling; raised by
+//! every write, a pass raising it to no more than its running maximum plus its length): a
+//! segment entering at or above it is held up nowhere, so a master's telegram round the
+//! ring, later than everything before it, leaves the floors one offset above `Q` without a
+//! floor read ([`OutFloors::free_sweep`]).
 
 use std::ops::Range;
 
@@ -53,6 +59,10 @@ pub(super) struct OutFloors {
     /// The latency `prefix` was summed with.
     prefix_lat: Option<Duration>,
     uniform: Option<Uniform>,
+    /// An upper bound of `floor(m) − prefix[m]` over every repeater `m ≥ 1` (`None` until
+    /// the prefix sums are taken): a segment entering at node 1's fibre at or above it
+    /// (measured against `prefix`) is held up at no floor ([`OutFloors::free_sweep`]).
+    ceiling: Option<i128>,
 }
 
 impl OutFloors {
@@ -64,6 +74,7 @@ impl OutFloors {
             prefix: Vec::new(),
             prefix_lat: None,
             uniform: None,
+            ceiling: None,
         }
     }
 
@@ -91,6 +102,11 @@ impl OutFloors {
         }
         if let Some(f) = self.floors.get_mut(m) {
             *f = v;
+        }
+        if m > 0
+            && let (Some(c), Some(q)) = (self.ceiling.as_mut(), self.prefix.get(m))
+        {
+            *c = (*c).max(i128::from(v.as_picos()) - q);
         }
     }
 
@@ -127,6 +143,20 @@ impl OutFloors {
             self.prefix.push(sum);
         }
         self.prefix_lat = Some(Duration::from_picos(u64::try_from(lat).unwrap_or(0)));
+        self.ceiling = Some(self.highest(1..self.floors.len()));
+    }
+
+    /// The highest `floor(m) − prefix[m]` over `run` (floors written out; `i128::MIN` for
+    /// none).
+    fn highest(&self, run: Range<usize>) -> i128 {
+        let (Some(f), Some(q)) = (self.floors.get(run.clone()), self.prefix.get(run)) else {
+            return i128::MIN;
+        };
+        f.iter()
+            .zip(q)
+            .map(|(f, q)| i128::from(f.as_picos()) - q)
+            .max()
+            .unwrap_or(i128::MIN)
     }
 
     /// Carries `seg` from the output of node `run.start − 1` through the plain repeaters
@@ -172,6 +202,7 @@ impl OutFloors {
                 self.write_range(u, u.from, first);
                 self.write_range(u, end, u.to);
                 self.uniform = Some(new);
+                self.ceiling = self.ceiling.map(|c| c.max(new.offset));
                 return (
                     Instant::from_picos(u64::try_from(out).unwrap_or(0)),
                     u.offset > offset,
@@ -183,6 +214,9 @@ impl OutFloors {
             return (start, false);
         };
         let (out, run) = walk(plain, floors, start);
+        // Each floor it leaves is its running maximum of the entry offset and the floors
+        // passed, plus its length (module notes).
+        self.ceiling = self.ceiling.map(|c| c.max(offset) + len_ps);
         let out_ps = i128::from(out.as_picos());
         let held = run == end.saturating_sub(first) && out_ps - q_out != offset;
         // Not held up anywhere: the floors are one offset over the run now.
@@ -224,6 +258,9 @@ impl OutFloors {
         if let Some(f) = self.floors.get_mut(m) {
             *f = v;
         }
+        if let (Some(c), Some(q)) = (self.ceiling.as_mut(), self.prefix.get(m)) {
+            *c = (*c).max(i128::from(v.as_picos()) - q);
+        }
     }
 
     /// Ends a sweep through `run`; `uniform`: its segment, of one length, was held up at
@@ -232,7 +269,7 @@ impl OutFloors {
     /// hops (module notes), and the run is kept so where no sum saturated.
     pub(super) fn close_sweep(&mut self, run: Range<usize>, uniform: bool) {
         debug_assert!(self.uniform.is_none(), "a sweep closed twice");
-        if !uniform || run.is_empty() {
+        if run.is_empty() {
             return;
         }
         let (Some(q), Some(f), Some(last)) = (
@@ -242,7 +279,7 @@ impl OutFloors {
         ) else {
             return;
         };
-        if i128::from(last.as_picos()) >= SAFE_PS {
+        if !uniform || i128::from(last.as_picos()) >= SAFE_PS {
             return;
         }
         let offset = i128::from(f.as_picos()) - q;
@@ -258,6 +295,81 @@ impl OutFloors {
             to: run.end,
             offset,
         });
+    }
+
+    /// A sweep through `run` held up at no floor: `seg` enters it (at the output of node
+    /// `run.start − 1`) at or above every floor's offset over the hops (the ceiling), so at
+    /// each repeater it starts by the hops alone and leaves the floor one offset above them
+    /// (module notes): the floors are kept as that run at once and none is read or written
+    /// hop by hop. Returns whether it was so (`false`: nothing changed, sweep hop by hop).
+    pub(super) fn free_sweep(&mut self, run: Range<usize>, seg: Crossing) -> bool {
+        let Crossing { start, len, lat } = seg;
+        let (first, end) = (run.start, run.end);
+        if self.prefix_lat != Some(lat) || first == 0 {
+            return false;
+        }
+        let (Some(c), Some(q_in), Some(q_out)) = (
+            self.ceiling,
+            self.prefix.get(first - 1),
+            end.checked_sub(1).and_then(|i| self.prefix.get(i)),
+        ) else {
+            return false;
+        };
+        let offset = i128::from(start.as_picos()) - q_in;
+        let len_ps = i128::from(len.as_picos());
+        if offset < c || first >= end || offset + q_out + len_ps >= SAFE_PS {
+            return false;
+        }
+        let new = Uniform {
+            from: first,
+            to: end,
+            offset: offset + len_ps,
+        };
+        self.debug_check_free(run, seg, new);
+        if let Some(u) = self.uniform {
+            // Floors outside the run keep the old offset.
+            self.write_range(u, u.from, first.min(u.to));
+            self.write_range(u, end.max(u.from), u.to);
+        }
+        self.uniform = Some(new);
+        self.ceiling = Some(if first == 1 && end == self.floors.len() {
+            new.offset
+        } else {
+            c.max(new.offset)
+        });
+        true
+    }
+
+    /// Debug builds: the ceiling bounds every floor, and a free sweep is held up nowhere and
+    /// leaves the floors the hop-by-hop walk leaves.
+    fn debug_check_free(&self, run: Range<usize>, seg: Crossing, new: Uniform) {
+        if cfg!(debug_assertions) {
+            for m in 1..self.floors.len() {
+                let (Some(f), Some(q)) = (self.get(m), self.prefix.get(m)) else {
+                    continue;
+                };
+                debug_assert!(
+                    self.ceiling >= Some(i128::from(f.as_picos()) - q),
+                    "floor {m} above the ceiling"
+                );
+            }
+            let mut at = seg.start;
+            for m in run {
+                let (Some(d), Some(f)) = (self.delays.get(m), self.get(m)) else {
+                    continue;
+                };
+                at = at
+                    .saturating_add(Duration::from_picos(*d))
+                    .saturating_add(seg.lat);
+                debug_assert!(at >= f, "a free sweep held up at {m}");
+                let left = self.prefix.get(m).map(|q| q + new.offset);
+                debug_assert_eq!(
+                    left,
+                    Some(i128::from(at.saturating_add(seg.len).as_picos())),
+                    "floor {m} after a free sweep"
+                );
+            }
+        }
     }
 
     /// Debug builds: the constant-time pass gives what the walk gives.
@@ -320,6 +432,7 @@ mod tests {
     #[test]
     fn same_as_walking_every_hop() {
         let mut uniform_passes = 0;
+        let mut free_sweeps = 0;
         for seed in 0..200 {
             let mut rng = Lcg(seed);
             let n = 2 + rng.next(12) as usize;
@@ -342,23 +455,45 @@ mod tests {
                         let end = first + 1 + rng.next((n - first) as u64) as usize;
                         let lat = Duration::from_picos(125_000);
                         let len = Duration::from_picos(rng.next(3) * rng.next(200_000));
+                        // Often well after the floors (a master's next telegram).
+                        now += rng.next(2) * 1_000_000;
                         let mut at = Instant::from_picos(now);
-                        let mut uniform = true;
-                        fast.open_sweep(lat);
-                        for m in first..end {
-                            at = at
-                                .saturating_add(Duration::from_picos(delays[m]))
-                                .saturating_add(lat);
-                            let floor = fast.swept(m);
-                            assert_eq!(floor, Some(slow[m]), "seed {seed} step {step} sweep {m}");
-                            if at < slow[m] {
-                                at = slow[m];
-                                uniform &= m == first;
+                        let crossing = Crossing {
+                            start: at,
+                            len,
+                            lat,
+                        };
+                        if fast.free_sweep(first..end, crossing) {
+                            free_sweeps += 1;
+                            for m in first..end {
+                                at = at
+                                    .saturating_add(Duration::from_picos(delays[m]))
+                                    .saturating_add(lat);
+                                assert!(at >= slow[m], "seed {seed} step {step} free sweep {m}");
+                                slow[m] = at.saturating_add(len);
                             }
-                            slow[m] = at.saturating_add(len);
-                            fast.sweep_set(m, slow[m]);
+                        } else {
+                            let mut uniform = true;
+                            fast.open_sweep(lat);
+                            for m in first..end {
+                                at = at
+                                    .saturating_add(Duration::from_picos(delays[m]))
+                                    .saturating_add(lat);
+                                let floor = fast.swept(m);
+                                assert_eq!(
+                                    floor,
+                                    Some(slow[m]),
+                                    "seed {seed} step {step} sweep {m}"
+                                );
+                                if at < slow[m] {
+                                    at = slow[m];
+                                    uniform &= m == first;
+                                }
+                                slow[m] = at.saturating_add(len);
+                                fast.sweep_set(m, slow[m]);
+                            }
+                            fast.close_sweep(first..end, uniform);
                         }
-                        fast.close_sweep(first..end, uniform);
                     }
                     _ => {
                         let first = 1 + rng.next(n as u64 - 1) as usize;
@@ -395,5 +530,6 @@ mod tests {
             }
         }
         assert!(uniform_passes > 1_000, "{uniform_passes}");
+        assert!(free_sweeps > 1_000, "{free_sweeps}");
     }
 }
