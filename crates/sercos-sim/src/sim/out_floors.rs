@@ -14,11 +14,11 @@
 //! floor is read or written through [`OutFloors::get`] / [`OutFloors::set`] or a pass
 //! covers part of the run.
 //!
-//! An upper bound of every repeater's `floor − Q` is kept as well (the ceiling; raised by
-//! every write, a pass raising it to no more than its running maximum plus its length): a
-//! segment entering at or above it is held up nowhere, so a master's telegram round the
-//! ring, later than everything before it, leaves the floors one offset above `Q` without a
-//! floor read ([`OutFloors::free_sweep`]).
+//! The highest `floor − Q` of the repeaters is kept as well (the ceiling; dropped by every
+//! write and found again when asked for, once per master telegram at most): a segment
+//! entering at or above it is held up nowhere, so a master's telegram round the ring, later
+//! than everything before it, leaves the floors one offset above `Q` without a floor read
+//! hop by hop ([`OutFloors::free_sweep`]).
 
 use std::ops::Range;
 
@@ -59,9 +59,10 @@ pub(super) struct OutFloors {
     /// The latency `prefix` was summed with.
     prefix_lat: Option<Duration>,
     uniform: Option<Uniform>,
-    /// An upper bound of `floor(m) − prefix[m]` over every repeater `m ≥ 1` (`None` until
-    /// the prefix sums are taken): a segment entering at node 1's fibre at or above it
-    /// (measured against `prefix`) is held up at no floor ([`OutFloors::free_sweep`]).
+    /// The highest `floor(m) − prefix[m]` over every repeater `m ≥ 1` (`None`: not known
+    /// since the last write, [`OutFloors::ceiling`]): a segment entering at node 1's fibre
+    /// at or above it (measured against `prefix`) is held up at no floor
+    /// ([`OutFloors::free_sweep`]).
     ceiling: Option<i128>,
 }
 
@@ -103,10 +104,8 @@ impl OutFloors {
         if let Some(f) = self.floors.get_mut(m) {
             *f = v;
         }
-        if m > 0
-            && let (Some(c), Some(q)) = (self.ceiling.as_mut(), self.prefix.get(m))
-        {
-            *c = (*c).max(i128::from(v.as_picos()) - q);
+        if m > 0 {
+            self.ceiling = None;
         }
     }
 
@@ -143,7 +142,25 @@ impl OutFloors {
             self.prefix.push(sum);
         }
         self.prefix_lat = Some(Duration::from_picos(u64::try_from(lat).unwrap_or(0)));
-        self.ceiling = Some(self.highest(1..self.floors.len()));
+        self.ceiling = None;
+    }
+
+    /// The ceiling (found again if a write dropped it: the uniform run's offset and the
+    /// floors written out).
+    fn ceiling(&mut self) -> i128 {
+        if let Some(c) = self.ceiling {
+            return c;
+        }
+        let n = self.floors.len();
+        let c = match self.uniform {
+            Some(u) => self
+                .highest(1..u.from.max(1))
+                .max(u.offset)
+                .max(self.highest(u.to.max(1)..n)),
+            None => self.highest(1..n),
+        };
+        self.ceiling = Some(c);
+        c
     }
 
     /// The highest `floor(m) − prefix[m]` over `run` (floors written out; `i128::MIN` for
@@ -173,7 +190,9 @@ impl OutFloors {
     ) -> (Instant, bool) {
         let Crossing { start, len, lat } = seg;
         let (first, end) = (run.start, run.end);
-        self.use_lat(lat);
+        if self.prefix_lat != Some(lat) {
+            self.use_lat(lat);
+        }
         let (Some(q_in), Some(q_out)) = (
             first.checked_sub(1).and_then(|i| self.prefix.get(i)),
             end.checked_sub(1).and_then(|i| self.prefix.get(i)),
@@ -202,7 +221,7 @@ impl OutFloors {
                 self.write_range(u, u.from, first);
                 self.write_range(u, end, u.to);
                 self.uniform = Some(new);
-                self.ceiling = self.ceiling.map(|c| c.max(new.offset));
+                self.ceiling = None;
                 return (
                     Instant::from_picos(u64::try_from(out).unwrap_or(0)),
                     u.offset > offset,
@@ -216,7 +235,7 @@ impl OutFloors {
         let (out, run) = walk(plain, floors, start);
         // Each floor it leaves is its running maximum of the entry offset and the floors
         // passed, plus its length (module notes).
-        self.ceiling = self.ceiling.map(|c| c.max(offset) + len_ps);
+        self.ceiling = None;
         let out_ps = i128::from(out.as_picos());
         let held = run == end.saturating_sub(first) && out_ps - q_out != offset;
         // Not held up anywhere: the floors are one offset over the run now.
@@ -258,9 +277,7 @@ impl OutFloors {
         if let Some(f) = self.floors.get_mut(m) {
             *f = v;
         }
-        if let (Some(c), Some(q)) = (self.ceiling.as_mut(), self.prefix.get(m)) {
-            *c = (*c).max(i128::from(v.as_picos()) - q);
-        }
+        self.ceiling = None;
     }
 
     /// Ends a sweep through `run`; `uniform`: its segment, of one length, was held up at
@@ -308,8 +325,8 @@ impl OutFloors {
         if self.prefix_lat != Some(lat) || first == 0 {
             return false;
         }
-        let (Some(c), Some(q_in), Some(q_out)) = (
-            self.ceiling,
+        let c = self.ceiling();
+        let (Some(q_in), Some(q_out)) = (
             self.prefix.get(first - 1),
             end.checked_sub(1).and_then(|i| self.prefix.get(i)),
         ) else {
@@ -332,27 +349,20 @@ impl OutFloors {
             self.write_range(u, end.max(u.from), u.to);
         }
         self.uniform = Some(new);
-        self.ceiling = Some(if first == 1 && end == self.floors.len() {
-            new.offset
-        } else {
-            c.max(new.offset)
-        });
+        // Every repeater's floor is the run's now (found again otherwise).
+        self.ceiling = (first == 1 && end == self.floors.len()).then_some(new.offset);
         true
     }
 
-    /// Debug builds: the ceiling bounds every floor, and a free sweep is held up nowhere and
+    /// Debug builds: the ceiling is the highest floor over the hops, and a free sweep is held up nowhere and
     /// leaves the floors the hop-by-hop walk leaves.
     fn debug_check_free(&self, run: Range<usize>, seg: Crossing, new: Uniform) {
         if cfg!(debug_assertions) {
-            for m in 1..self.floors.len() {
-                let (Some(f), Some(q)) = (self.get(m), self.prefix.get(m)) else {
-                    continue;
-                };
-                debug_assert!(
-                    self.ceiling >= Some(i128::from(f.as_picos()) - q),
-                    "floor {m} above the ceiling"
-                );
-            }
+            let highest = (1..self.floors.len())
+                .filter_map(|m| Some(i128::from(self.get(m)?.as_picos()) - self.prefix.get(m)?))
+                .max()
+                .unwrap_or(i128::MIN);
+            debug_assert_eq!(self.ceiling, Some(highest), "the ceiling");
             let mut at = seg.start;
             for m in run {
                 let (Some(d), Some(f)) = (self.delays.get(m), self.get(m)) else {
