@@ -252,7 +252,8 @@ impl Transmitter {
                     bits && seg.level_before != (level != first[0]),
                     bits && seg.level_before != (level != first[1]),
                 ];
-                self.tail = Some((copy(), inv));
+                // `tail` is empty (above): set without a drop of what it held.
+                self.tail.get_or_insert_with(|| (copy(), inv));
                 debug_assert_eq!(self.next_release, self.compute_next_release());
                 return;
             }
@@ -671,7 +672,10 @@ impl Transmitter {
                 .tail
                 .as_ref()
                 .is_some_and(|(tail, _)| resumes_filler(tail, own_until, seg.bit_time));
-        self.bg_active = self.tail.take().map(|(tail, _)| tail);
+        let followed = self.tail.take().map(|(tail, _)| tail);
+        if let Some(before) = std::mem::replace(&mut self.bg_active, followed) {
+            drop_in_line(before);
+        }
         seg.then_filler = self.silent_resume;
         let open = seg.then_filler;
         self.emit(seg);
@@ -811,7 +815,11 @@ impl Transmitter {
         // call, and reading it twice (for the copy and for the store) waited twice on the
         // stores that built it (store forwarding; `docs/performance.md`, "Controller pair").
         self.released.push(seg);
-        self.last_out = self.released.last().map(LineSegment::without_hint);
+        // The segment it replaces as the line's last, dropped in line (`drop_in_line`).
+        let last = self.released.last().map(LineSegment::without_hint);
+        if let Some(before) = std::mem::replace(&mut self.last_out, last) {
+            drop_in_line(before);
+        }
         self.last_inv = false;
         self.last_is_bg = false;
         self.implied_open = false;
@@ -835,6 +843,19 @@ impl Transmitter {
             return;
         }
         out.append(&mut self.released);
+    }
+}
+
+/// Drops `seg` here, not through the drop glue's call (a ring slave's take drops the copy
+/// it resumed last cycle and the line's last segment on every release).
+#[inline(always)]
+fn drop_in_line(seg: LineSegment) {
+    let LineSegment { signal, hint, .. } = seg;
+    if let LineSignal::Bits(bits) = signal {
+        drop(bits);
+    }
+    if let Some(hint) = hint {
+        drop(hint);
     }
 }
 
