@@ -194,6 +194,17 @@ impl Node {
         follow(&mut self.contig.output, start, seg, |t| clock.to_global(t))
     }
 
+    /// `seg`, released by the chip (node time), in simulation time: on the simulation's
+    /// clock its start as it is, else as [`Node::map_out_after`] maps it after `floor`.
+    #[inline]
+    pub(crate) fn map_released(&mut self, seg: &mut LineSegment, floor: Instant) {
+        if self.clock.is_identity() {
+            seg.start = self.clock.to_global(seg.start);
+        } else {
+            self.map_out_after(seg, floor);
+        }
+    }
+
     /// `seg`, released by the chip (node time), in simulation time ([`Node::map_out`]),
     /// with the output line taken up to `floor`. A segment that starts where or after the
     /// chip's last output ended in node time starts no earlier than that output's end in

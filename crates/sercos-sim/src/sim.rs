@@ -930,11 +930,7 @@ impl Simulation {
         let Some(mut floor) = self.out_floors.get(j) else {
             return;
         };
-        if node.clock.is_identity() {
-            seg.start = node.clock.to_global(seg.start);
-        } else {
-            node.map_out_after(&mut seg, floor);
-        }
+        node.map_released(&mut seg, floor);
         let before = floor;
         if node.put_out(&mut floor, &mut seg, origin == j) && before > node.chip_out_end {
             // The chip's output cut a telegram the fast path put out ahead of it (`repeat_out`,

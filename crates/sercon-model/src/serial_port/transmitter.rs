@@ -245,13 +245,7 @@ impl Transmitter {
                 && b.seg.start < start
             {
                 // The merge (`queue_background`).
-                let bits = matches!(seg.signal, LineSignal::Bits(_));
-                let level = b.seg.level_at(start);
-                let first = single_inv(&b.seg);
-                let inv = [
-                    bits && seg.level_before != (level != first[0]),
-                    bits && seg.level_before != (level != first[1]),
-                ];
+                let inv = chained_inversion(&b.seg, start, seg);
                 // `tail` is empty (above): set without a drop of what it held.
                 self.tail.get_or_insert_with(|| (copy(), inv));
                 debug_assert_eq!(self.next_release, self.compute_next_release());
@@ -274,13 +268,7 @@ impl Transmitter {
             // A carried copy after a carried copy (410B §1 repeater): its inversion chained
             // from the level the one before leaves at its start (`Transmitter::skip_followed`;
             // spec-notes "Merged carried copies").
-            let bits = matches!(seg.signal, LineSignal::Bits(_));
-            let level = b.seg.level_at(start);
-            let first = single_inv(&b.seg);
-            let inv = [
-                bits && seg.level_before != (level != first[0]),
-                bits && seg.level_before != (level != first[1]),
-            ];
+            let inv = chained_inversion(&b.seg, start, &seg);
             self.tail = Some((seg, inv));
             debug_assert_eq!(self.next_release, self.compute_next_release());
             return;
@@ -865,6 +853,20 @@ fn drop_in_line(seg: LineSegment) {
 fn single_inv(seg: &LineSegment) -> [bool; 2] {
     let bits = matches!(seg.signal, LineSignal::Bits(_));
     [bits && seg.level_before, bits && !seg.level_before]
+}
+
+/// The inversions of a carried copy of `seg`'s bits starting at `start`, merged after the
+/// carried copy `before` (410B §1 repeater): chained from the level `before` leaves at that
+/// start (`Transmitter::skip_followed`; spec-notes "Merged carried copies").
+#[inline(always)]
+fn chained_inversion(before: &LineSegment, start: Instant, seg: &LineSegment) -> [bool; 2] {
+    let bits = matches!(seg.signal, LineSignal::Bits(_));
+    let level = before.level_at(start);
+    let first = single_inv(before);
+    [
+        bits && seg.level_before != (level != first[0]),
+        bits && seg.level_before != (level != first[1]),
+    ]
 }
 
 /// Whether background `bg` resumed at `at` is plain filler of bit time `bit_time` (filler,

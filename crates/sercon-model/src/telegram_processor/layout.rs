@@ -25,6 +25,7 @@ use sercon_regs::ram::header::{Header, HeaderKind};
 use sercon_regs::ram::service::{SC_BUFFER_MAX_WORDS, SC_BUFFER_OFFSET};
 use sercon_regs::ram::{COMPT0, COMPT1, FIXED_WORDS, NMSTERR, scpt};
 
+use super::HeaderWord0;
 use super::walk::{self, Containers};
 use crate::chip::Chip;
 

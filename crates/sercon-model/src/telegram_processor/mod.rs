@@ -100,40 +100,10 @@ impl TxHead {
         }
     }
 
-    /// ADR (word 0 bits 7-0).
-    #[inline]
-    pub(crate) fn adr(self) -> u8 {
-        self.w0 as u8
-    }
-
-    /// DMA (0.8).
-    #[inline]
-    pub(crate) fn dma(self) -> bool {
-        self.w0 & (1 << 8) != 0
-    }
-
-    /// DBUF (0.9).
-    #[inline]
-    pub(crate) fn dbuf(self) -> bool {
-        self.w0 & (1 << 9) != 0
-    }
-
-    /// VAL (0.10).
-    #[inline]
-    pub(crate) fn val(self) -> bool {
-        self.w0 & (1 << 10) != 0
-    }
-
     /// EN (0.12-11).
     #[inline]
     pub(crate) fn en(self) -> TxEnable {
         TxEnable::from_code(self.w0 >> 11)
-    }
-
-    /// Where the telegram's data lives (410B §4.2.2: DMA, DBUF).
-    #[inline]
-    pub(crate) fn buffering(self) -> sercon_regs::ram::header::Buffering {
-        sercon_regs::ram::header::Buffering::from_bits(self.dma(), self.dbuf())
     }
 
     /// The header with VAL set to `val`.
@@ -152,6 +122,51 @@ impl TxHead {
             w0: (self.w0 & !(3 << 11)) | (en as u16) << 11,
             ..self
         }
+    }
+}
+
+/// Word 0 of a telegram header as the processor holds it (`TxHead`, `receive::RxHead`), kept
+/// whole: the fields both kinds of header share (410B §4.2.1 word 0: ADR 7-0, DMA 8, DBUF 9,
+/// VAL 10), read from the word where they decide.
+pub(crate) trait HeaderWord0: Copy {
+    /// Word 0 as read.
+    fn w0(self) -> u16;
+
+    /// ADR (word 0 bits 7-0).
+    #[inline]
+    fn adr(self) -> u8 {
+        self.w0() as u8
+    }
+
+    /// DMA (0.8).
+    #[inline]
+    fn dma(self) -> bool {
+        self.w0() & (1 << 8) != 0
+    }
+
+    /// DBUF (0.9).
+    #[inline]
+    fn dbuf(self) -> bool {
+        self.w0() & (1 << 9) != 0
+    }
+
+    /// VAL (0.10).
+    #[inline]
+    fn val(self) -> bool {
+        self.w0() & (1 << 10) != 0
+    }
+
+    /// Where the telegram's data lives (410B §4.2.2: DMA, DBUF).
+    #[inline]
+    fn buffering(self) -> sercon_regs::ram::header::Buffering {
+        sercon_regs::ram::header::Buffering::from_bits(self.dma(), self.dbuf())
+    }
+}
+
+impl HeaderWord0 for TxHead {
+    #[inline]
+    fn w0(self) -> u16 {
+        self.w0
     }
 }
 

@@ -8,7 +8,7 @@ use super::status::{INT_NEWADR, INT_REND, INT_RERR, INT_RMISS, INT_RSTART, ProgE
 use super::transmit::raise_sc;
 use super::walk::{self, Containers};
 use super::walk_memo;
-use super::{Cur, RxNow, RxRole, advance, prog_error, reg25, set_flmdtadr};
+use super::{Cur, HeaderWord0, RxNow, RxRole, advance, prog_error, reg25, set_flmdtadr};
 use crate::chip::Chip;
 use crate::service_container::{self, ScMode};
 
@@ -34,6 +34,13 @@ const VAL: u16 = 1 << 10;
 /// 410B §4.2.1 receive header word 0: RERR (bit 13).
 const RERR: u16 = 1 << 13;
 
+impl HeaderWord0 for RxHead {
+    #[inline]
+    fn w0(self) -> u16 {
+        self.w0
+    }
+}
+
 impl RxHead {
     /// The header of words `w`, whose word 0 marks a receive header (`walk::header_words`
     /// classified it: 410B §4.2.1, ERRATA "telegram header marker bits").
@@ -46,30 +53,6 @@ impl RxHead {
             tlen,
             pt: w3 & variant.pointer_mask(),
         }
-    }
-
-    /// ADR (word 0 bits 7-0).
-    #[inline]
-    pub(crate) fn adr(self) -> u8 {
-        self.w0 as u8
-    }
-
-    /// DMA (0.8).
-    #[inline]
-    pub(crate) fn dma(self) -> bool {
-        self.w0 & (1 << 8) != 0
-    }
-
-    /// DBUF (0.9).
-    #[inline]
-    pub(crate) fn dbuf(self) -> bool {
-        self.w0 & (1 << 9) != 0
-    }
-
-    /// VAL (0.10).
-    #[inline]
-    pub(crate) fn val(self) -> bool {
-        self.w0 & VAL != 0
     }
 
     /// ACHK (0.11).
@@ -88,12 +71,6 @@ impl RxHead {
     #[inline]
     pub(crate) fn rerr(self) -> bool {
         self.w0 & RERR != 0
-    }
-
-    /// Where the telegram's data lives (410B §4.2.2: DMA, DBUF).
-    #[inline]
-    pub(crate) fn buffering(self) -> Buffering {
-        Buffering::from_bits(self.dma(), self.dbuf())
     }
 
     /// The header with VAL set to `val`.

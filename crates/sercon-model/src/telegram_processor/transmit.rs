@@ -7,7 +7,7 @@ use sercon_regs::ram::header::{Buffering, HeaderKind, TxEnable};
 use super::status::{INT_TEND, INT_TSTART, ProgErr};
 use super::walk::{self, Containers};
 use super::walk_memo;
-use super::{Cur, TxHead, advance, entmt, prog_error, reg25, set_flmdtadr};
+use super::{Cur, HeaderWord0, TxHead, advance, entmt, prog_error, reg25, set_flmdtadr};
 use crate::chip::Chip;
 use crate::service_container::{self, ScMode};
 

@@ -94,11 +94,7 @@ impl Simulation {
         let Some(mut floor) = self.out_floors.get(j) else {
             return;
         };
-        if node.clock.is_identity() {
-            seg.start = node.clock.to_global(seg.start);
-        } else {
-            node.map_out_after(&mut seg, floor);
-        }
+        node.map_released(&mut seg, floor);
         // `Node::put_out` on the fast path (no levels followed): the line taken to its end.
         debug_assert!(!node.track_levels, "levels followed on the fast path");
         let end = seg.end();
