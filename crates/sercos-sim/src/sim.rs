@@ -1247,12 +1247,7 @@ impl Simulation {
                 seg.start = seg.start.saturating_add(lat);
                 seg.distorted = false;
             }
-            if let Some(delay) = self.seg_delays.get(n - 1) {
-                seg.start = seg.start.saturating_add(*delay);
-                if self.nodes.first().is_some_and(|m| m.powered) {
-                    self.deliver(0, seg, 0, false);
-                }
-            }
+            self.sweep_into_master(seg);
             return;
         }
         self.out_floors.open_sweep(lat);
@@ -1294,8 +1289,14 @@ impl Simulation {
             self.out_floors.sweep_set(next, floor);
         }
         self.out_floors.close_sweep(1..n, uniform);
-        // Into the master (`propagate_master_plain`'s last hop).
-        let Some(delay) = self.seg_delays.get(n - 1) else {
+        self.sweep_into_master(seg);
+    }
+
+    /// The master's segment of a sweep, put out by the last slave, over the last fibre into
+    /// the master (`propagate_master_plain`'s last hop).
+    #[inline]
+    fn sweep_into_master(&mut self, mut seg: LineSegment) {
+        let Some(delay) = self.seg_delays.last() else {
             return;
         };
         seg.start = seg.start.saturating_add(*delay);
