@@ -1432,19 +1432,11 @@ impl Simulation {
         node.in_floor = local.start;
         // The fast path leaves out segments this receiver ignores, so the level it saw
         // last may differ from the sender's: a telegram is taken from the level the
-        // receiver is at (NRZI decodes an inverted telegram the same).
-        match local.signal {
-            LineSignal::Bits(_)
-                if node
-                    .chip
-                    .received_level_at(local.start)
-                    .is_some_and(|level| level != local.level_before) =>
-            {
-                // The sender's hint has the inverted bits at hand (`FrameHint::twin`).
-                local = local.inverted();
-            }
-            LineSignal::Filler => node.continue_filler(&mut local),
-            _ => {}
+        // receiver is at (NRZI decodes an inverted telegram the same), by the chip
+        // (`Chip::line_input_at_level`; the sender's hint has the inverted bits at hand,
+        // `FrameHint::twin`). Nothing below reads the bits or the level before that.
+        if matches!(local.signal, LineSignal::Filler) {
+            node.continue_filler(&mut local);
         }
         // The exact path matches the repeater's copies with what it delivered; on the fast
         // path the chip releases none (`Chip::set_forward_output`).
@@ -1492,7 +1484,7 @@ impl Simulation {
             // path's gets the filler. Counted like the collisions the fast path cannot follow.
             self.stats.fast_path_collisions += 1;
         }
-        node.chip.line_input(local);
+        node.chip.line_input_at_level(local);
         self.stats.deliveries += 1;
         // A segment that starts after the chip's time adds events from its start on only
         // (`Chip::line_input`; it may also put a pending event off, such as the FIBBR

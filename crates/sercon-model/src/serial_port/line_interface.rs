@@ -25,6 +25,22 @@ impl Chip {
     /// and their interrupts follow when the chip's time reaches them. With the repeater on
     /// (1H.3 REPON) the segment is forwarded to the output.
     pub fn line_input(&mut self, seg: LineSegment) {
+        self.line_input_with::<false>(seg);
+    }
+
+    /// [`Chip::line_input`] of a segment taken from the level the receive line is at: a
+    /// telegram whose [`LineSegment::level_before`] is not the level
+    /// [`Chip::received_level_at`] gives at its start is taken inverted
+    /// ([`LineSegment::inverted`]; NRZI decodes it the same, 410B §4.1 1H.12 RXDNRZ = 0). A
+    /// simulation that leaves out segments a receiver ignores hands its telegrams over so;
+    /// the level is then found once, here, for the check and for taking the segment.
+    pub fn line_input_at_level(&mut self, seg: LineSegment) {
+        self.line_input_with::<true>(seg);
+    }
+
+    /// [`Chip::line_input`], and with `AT_LEVEL` [`Chip::line_input_at_level`].
+    #[inline(always)]
+    fn line_input_with<const AT_LEVEL: bool>(&mut self, seg: LineSegment) {
         // A line input leaves the timing control alone; it adds frames for the telegram
         // processor (which can only make its next tick earlier) and changes for the serial
         // port (read from its queues, not cached).
@@ -47,7 +63,7 @@ impl Chip {
         );
         let at = seg.start;
         let mut early_report = false;
-        let retracted = self.serial.line_input(seg, |f| {
+        let retracted = self.serial.line_input::<AT_LEVEL, _>(seg, |f| {
             if tp.early.is_some_and(|e| e.start == f.start) {
                 // The report of a frame taken early gives it its end.
                 let tick = clock.tick_at_or_after(f.start);

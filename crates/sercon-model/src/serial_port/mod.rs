@@ -214,12 +214,18 @@ impl SerialPort {
     /// then to `frames`, in order. Returns whether the segment took back frames reported
     /// before (it cut their bits, `Receiver::take_retracted`; [`SerialPort::take_retracted`]
     /// names them): a frame of such a start reported now replaces one.
+    ///
+    /// `AT_LEVEL` (`Chip::line_input_at_level`): a telegram is first taken to the level the
+    /// line is at (inverted when [`receiver::Receiver::off_line_level`]).
     #[must_use]
-    pub(crate) fn line_input<F: FnMut(HeardFrame)>(
+    pub(crate) fn line_input<const AT_LEVEL: bool, F: FnMut(HeardFrame)>(
         &mut self,
-        seg: LineSegment,
+        mut seg: LineSegment,
         mut frames: F,
     ) -> bool {
+        if AT_LEVEL && self.rx.off_line_level(&seg) {
+            seg.invert();
+        }
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
         let mut fwd = None;
         if self.cfg.tx_mode == TxMode::Repeat {
@@ -241,7 +247,7 @@ impl SerialPort {
             log.push(&f);
             frames(f);
         };
-        let short = self.rx.input(
+        let short = self.rx.input::<AT_LEVEL, _>(
             seg,
             &self.cfg,
             Sinks {

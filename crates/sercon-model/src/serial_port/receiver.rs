@@ -157,6 +157,18 @@ impl Receiver {
         Some(level)
     }
 
+    /// Whether `seg` is a telegram whose `level_before` is not the level
+    /// [`Receiver::level_at`] gives at its start: taken to the level the line is at, it is
+    /// inverted (NRZI decodes it the same, 410B §4.1 1H.12 RXDNRZ = 0). The level found is
+    /// remembered for taking the segment.
+    #[inline(always)]
+    pub(crate) fn off_line_level(&self, seg: &LineSegment) -> bool {
+        matches!(seg.signal, LineSignal::Bits(_))
+            && self
+                .level_at(seg.start)
+                .is_some_and(|level| level != seg.level_before)
+    }
+
     /// The FIBBR deadline has passed without an edge: FIBBR is now set.
     pub(crate) fn deadline_fired(&mut self) {
         self.fibbr_deadline = None;
@@ -206,14 +218,18 @@ impl Receiver {
     ///
     /// Returns whether [`Receiver::filler_to_filler`] took it: then FIBBR's deadline stays
     /// unset and no FIBBR / RDIST change was scheduled (only REACTN's pulse).
-    pub(crate) fn input<F: FnMut(HeardFrame)>(
+    ///
+    /// `AT_LEVEL`: `seg` was taken to the line's level ([`Receiver::off_line_level`]), so the
+    /// level the filler-to-filler path needs is known to be its `level_before` whenever a
+    /// segment was received before (debug builds check it).
+    pub(crate) fn input<const AT_LEVEL: bool, F: FnMut(HeardFrame)>(
         &mut self,
         seg: LineSegment,
         cfg: &PortConfig,
         sinks: Sinks<'_, F>,
     ) -> bool {
         let Sinks { events, frames } = sinks;
-        if self.is_filler_to_filler(&seg, cfg, events) {
+        if self.is_filler_to_filler::<AT_LEVEL>(&seg, cfg, events) {
             #[cfg(debug_assertions)]
             let expected = self.general_outcome(&seg, cfg, events);
             self.filler_to_filler(seg, events, frames);
@@ -283,7 +299,12 @@ impl Receiver {
     /// on the way lie more than one bit time past each edge (410B §4.1 2H.13, FIBBR after
     /// [`FIBBR_BIT_TIMES`] without an edge) and every RDIST change it asks for is the value
     /// RDIST already has (2H.12).
-    fn is_filler_to_filler(
+    ///
+    /// `AT_LEVEL`: `seg` was taken to the line's level
+    /// ([`Receiver::off_line_level`]); with `ready` set a segment
+    /// was received before, so `level_at` gives a level and `seg` starts from it: the
+    /// level's check is left out (debug builds make it).
+    fn is_filler_to_filler<const AT_LEVEL: bool>(
         &self,
         seg: &LineSegment,
         cfg: &PortConfig,
@@ -291,6 +312,13 @@ impl Receiver {
     ) -> bool {
         const { assert!(FIBBR_BIT_TIMES > 1) };
         debug_assert_eq!(self.ready, self.compute_ready());
+        debug_assert!(
+            !AT_LEVEL
+                || self.ready.is_none()
+                || !matches!(seg.signal, LineSignal::Bits(_))
+                || self.level_at(seg.start) == Some(seg.level_before),
+            "a segment taken to the line's level starts from another"
+        );
         let bt = seg.bit_time;
         // The receiver's part (`compute_ready`): the previous telegram's implied filler runs,
         // from before `seg`, at `seg`'s bit rate (not 0).
@@ -302,7 +330,7 @@ impl Receiver {
             && matches!(&seg.signal, LineSignal::Bits(b) if !b.is_empty())
             && cfg.rx_coding == RxdCoding::Nrzi
             && cfg.bit_time.is_none_or(|own| own == bt)
-            && self.level_at(seg.start) == Some(seg.level_before)
+            && (AT_LEVEL || self.level_at(seg.start) == Some(seg.level_before))
             && events.rdist_at_end_if_last(seg.start) == Some(false)
     }
 
@@ -974,14 +1002,14 @@ mod tests {
             let start = Instant::from_picos(start);
             let level = fast.level_at(start).unwrap_or(false);
             let seg = segment(kind, start, len, level == keep_level);
-            taken += u32::from(fast.is_filler_to_filler(&seg, &cfg, &ev_fast));
+            taken += u32::from(fast.is_filler_to_filler::<false>(&seg, &cfg, &ev_fast));
             end = seg.end().unwrap_or(start);
             let mut sink = |f: HeardFrame| got_fast.push((f.start, f.end, f.bytes, f.fcs_ok));
             let sinks = Sinks {
                 events: &mut ev_fast,
                 frames: &mut sink,
             };
-            fast.input(seg.clone(), &cfg, sinks);
+            fast.input::<false, _>(seg.clone(), &cfg, sinks);
             let mut sink = |f: HeardFrame| got_general.push((f.start, f.end, f.bytes, f.fcs_ok));
             general.input_general(seg, &cfg, &mut ev_general, &mut sink);
             prop_assert_eq!(fast.digest(), general.digest());
@@ -991,7 +1019,80 @@ mod tests {
         Ok(taken)
     }
 
+    /// Feeds `steps` to a receiver as `Chip::line_input_at_level` does (a telegram not at
+    /// the line's level inverted, [`Receiver::off_line_level`], then [`Receiver::input`]
+    /// with the level's check left out) and to another through the general path only, each
+    /// telegram inverted there by the rule written out here (as the simulation did before
+    /// the chip did it: the level the last segment gives at its start, when there is one);
+    /// compares both after each step, the line's level after the segment included; returns
+    /// how often the first took the filler-to-filler path and how often a telegram was
+    /// inverted.
+    fn compare_at_level(steps: &[Step]) -> Result<(u32, u32), TestCaseError> {
+        let timeout = BT.saturating_mul(FIBBR_BIT_TIMES);
+        let mut leveled = Receiver::new(Instant::ZERO, timeout);
+        let mut general = Receiver::new(Instant::ZERO, timeout);
+        let (mut ev_leveled, mut ev_general) = (LineEvents::default(), LineEvents::default());
+        let (mut got_leveled, mut got_general) = (Vec::new(), Vec::new());
+        let mut end = Instant::from_picos(1_000_000);
+        let (mut taken, mut inverted) = (0, 0);
+        for &(kind, gap, len, keep_level, own) in steps {
+            let cfg = cfg(own);
+            let start = end
+                .as_picos()
+                .saturating_add_signed(gap.saturating_mul(BT.as_picos() as i64))
+                .max(1);
+            let start = Instant::from_picos(start);
+            let level = general.level_at(start).unwrap_or(false);
+            let seg = segment(kind, start, len, level == keep_level);
+            end = seg.end().unwrap_or(start);
+            let mut aligned = seg.clone();
+            if matches!(seg.signal, LineSignal::Bits(_))
+                && general
+                    .level_at(start)
+                    .is_some_and(|l| l != seg.level_before)
+            {
+                aligned = aligned.inverted();
+                inverted += 1;
+            }
+            let mut seg = seg;
+            if leveled.off_line_level(&seg) {
+                seg.invert();
+            }
+            taken += u32::from(leveled.is_filler_to_filler::<true>(&seg, &cfg, &ev_leveled));
+            let mut sink = |f: HeardFrame| got_leveled.push((f.start, f.end, f.bytes, f.fcs_ok));
+            let sinks = Sinks {
+                events: &mut ev_leveled,
+                frames: &mut sink,
+            };
+            leveled.input::<true, _>(seg, &cfg, sinks);
+            let mut sink = |f: HeardFrame| got_general.push((f.start, f.end, f.bytes, f.fcs_ok));
+            general.input_general(aligned, &cfg, &mut ev_general, &mut sink);
+            prop_assert_eq!(leveled.digest(), general.digest());
+            prop_assert_eq!(ev_leveled.digest(), ev_general.digest());
+            prop_assert_eq!(&got_leveled, &got_general);
+            for k in 0..3 {
+                let t = end.saturating_add(BT.saturating_mul(k));
+                prop_assert_eq!(leveled.level_at(t), general.level_at(t), "level at {:?}", t);
+            }
+        }
+        Ok((taken, inverted))
+    }
+
     proptest! {
+        /// The receive level found once (`Chip::line_input_at_level`): a telegram taken to
+        /// the line's level by the receiver, the level's check then left out of the
+        /// filler-to-filler path, leaves the receiver, its changes and its frames as the
+        /// general path leaves them with the telegram inverted beforehand.
+        #[test]
+        fn a_telegram_taken_at_the_line_level_is_the_one_inverted_before(
+            steps in prop::collection::vec(
+                (0u8..6, -40i64..120, 1u8..80, any::<bool>(), prop_oneof![4 => Just(1u8), 1 => 0u8..3]),
+                1..40,
+            ),
+        ) {
+            compare_at_level(&steps)?;
+        }
+
         /// 410B §4.1 2H.12–13, §2 REACTN: the filler-to-filler path leaves the receiver, its
         /// scheduled changes and its frames exactly as the general path does, take-backs of
         /// the implied filler included (a segment starting before its start).
@@ -1018,6 +1119,23 @@ mod tests {
                 .collect();
             let taken = compare(&ring).unwrap_or_else(|e| panic!("{e}"));
             assert!(taken >= 10, "taken {taken} times");
+        }
+    }
+
+    /// An intact ring's telegrams, every other one from the other level (as a fast path that
+    /// leaves out segments hands them over): taken at the line's level, each inverted one
+    /// still takes the filler-to-filler path, and all agree with the general path.
+    #[test]
+    fn telegrams_from_the_other_level_take_the_filler_to_filler_path_inverted() {
+        for own in [0, 1] {
+            let ring: Vec<Step> = (0..12)
+                .map(|i| (0, 8 + i, 40, i % 2 == 0, own))
+                .chain([(0, -3, 30, false, own), (0, 10, 30, false, own)])
+                .chain([(4, 200, 1, true, own), (0, 5, 30, false, own)])
+                .collect();
+            let (taken, inverted) = compare_at_level(&ring).unwrap_or_else(|e| panic!("{e}"));
+            assert!(taken >= 10, "taken {taken} times");
+            assert!(inverted >= 6, "inverted {inverted} times");
         }
     }
 }

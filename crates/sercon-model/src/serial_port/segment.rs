@@ -227,25 +227,31 @@ impl LineSegment {
     /// With a hint's twin the inverted bits are shared, not copied (and the bits become the
     /// new hint's twin).
     pub fn inverted(mut self) -> Self {
+        self.invert();
+        self
+    }
+
+    /// [`LineSegment::inverted`] in place.
+    #[inline(always)]
+    pub fn invert(&mut self) {
         self.level_before = !self.level_before;
-        self.signal = match self.signal {
-            LineSignal::Dark => LineSignal::Light,
-            LineSignal::Light => LineSignal::Dark,
-            LineSignal::Filler => LineSignal::Filler,
+        match &mut self.signal {
+            LineSignal::Dark => self.signal = LineSignal::Light,
+            LineSignal::Light => self.signal = LineSignal::Dark,
+            LineSignal::Filler => {}
             LineSignal::Bits(b) => {
                 let twin = self
                     .hint
                     .as_mut()
                     .and_then(|h| h.twin.take())
                     .filter(|t| t.len() == b.len());
-                let inv = twin.unwrap_or_else(|| Shared::new(invert_bits(&b)));
+                let inv = twin.unwrap_or_else(|| Shared::new(invert_bits(b)));
+                let bits = std::mem::replace(b, inv);
                 if let Some(h) = self.hint.as_mut() {
-                    h.twin = Some(b);
+                    h.twin = Some(bits);
                 }
-                LineSignal::Bits(inv)
             }
-        };
-        self
+        }
     }
 
     /// The part of this segment from instant `t` on (`t` ≥ `start`): a steady segment starts
