@@ -4,7 +4,7 @@
 use sercon_regs::Register;
 use sercos_wire::time::Instant;
 
-use super::{LineSegment, RxFrame, SerialPort};
+use super::{FrameSink, HeardFrame, LineSegment, RxFrame, SerialPort};
 use crate::chip::Chip;
 use crate::pins::{Pin, PinEvent};
 
@@ -50,50 +50,23 @@ impl Chip {
         // `now` (how a conservative simulation hands segments over), so its status changes
         // do too, and so does every frame it completes (checked below: a frame may have
         // begun in an earlier segment).
-        let mut quiet = seg.start > now && self.next_core.is_some();
+        let quiet = seg.start > now && self.next_core.is_some();
         // The telegram processor takes every frame the receiver saw (contract with tp), as
         // the receiver decodes it (no list in between: a frame is moved once).
-        let (clock, next_core, tp_next, tp, out_bound, settings) = (
-            &self.clock,
-            &mut self.next_core,
-            &mut self.tp_next,
-            &mut self.tp,
-            &self.out_bound,
-            &self.engine.s,
-        );
         let at = seg.start;
-        let mut early_report = false;
-        let retracted = self.serial.line_input::<AT_LEVEL, _>(seg, |f| {
-            if tp.early.is_some_and(|e| e.start == f.start) {
-                // The report of a frame taken early gives it its end.
-                let tick = clock.tick_at_or_after(f.start);
-                early_report |=
-                    crate::telegram_processor::early_start::take_report(tp, clock, tick, f);
-                return;
-            }
-            if crate::telegram_processor::frame_is_mst(&f.bytes) && settings.is_sercos_slave() {
-                // A slave's block starts with the MST it receives (410B §4.2.1 TRT):
-                // the output bound is found afresh (a master's or a non-SERCOS chip's
-                // reads no MST it receives, `telegram_processor::next_tx_bound`).
-                out_bound.set(None);
-            }
-            let tick = clock.tick_at_or_after(f.start);
-            // While a frame is in progress the next starts at its end at the earliest
-            // (`telegram_processor::first_frame_tick`), which the next ticks hold already.
-            if tp.rx_now.is_none() {
-                if let Some(core) = next_core.as_mut() {
-                    let at = clock.instant(tick);
-                    quiet &= at > now;
-                    *core = Some(core.map_or(at, |c| c.min(at)));
-                }
-                if let Some(next) = tp_next.as_mut() {
-                    // The processor's next tick is the earlier of its own and the first
-                    // frame's.
-                    *next = Some(next.map_or(tick, |k| k.min(tick)));
-                }
-            }
-            tp.on_rx_frame(tick, f);
-        });
+        let mut sink = ToProcessor {
+            clock: &self.clock,
+            next_core: &mut self.next_core,
+            tp_next: &mut self.tp_next,
+            tp: &mut self.tp,
+            out_bound: &self.out_bound,
+            settings: &self.engine.s,
+            now,
+            quiet,
+            early_report: false,
+        };
+        let retracted = self.serial.line_input::<AT_LEVEL, _>(seg, &mut sink);
+        let (mut quiet, early_report) = (sink.quiet, sink.early_report);
         if retracted {
             for start in self.serial.take_retracted() {
                 crate::telegram_processor::take_back_frame(self, start);
@@ -449,5 +422,59 @@ impl Chip {
             }
         }
         probe.next_event_at()
+    }
+}
+
+/// The chip's frame sink ([`Chip::line_input`]): the telegram processor takes every frame
+/// the receiver decodes, as it is decoded (contract with tp), with what the chip keeps of
+/// its next instants brought up to date. Its `take` is built into the receiver's paths
+/// rather than called.
+struct ToProcessor<'a> {
+    clock: &'a crate::mclk::MclkClock,
+    next_core: &'a mut Option<Option<Instant>>,
+    tp_next: &'a mut Option<Option<u64>>,
+    tp: &'a mut crate::telegram_processor::TelegramProcessor,
+    out_bound: &'a std::cell::Cell<Option<Option<u64>>>,
+    settings: &'a crate::settings::Settings,
+    /// The chip's time.
+    now: Instant,
+    /// Nothing made due at `now` so far (`Chip::line_input`).
+    quiet: bool,
+    /// The report of a frame taken early came.
+    early_report: bool,
+}
+
+impl FrameSink for ToProcessor<'_> {
+    #[inline(always)]
+    fn take(&mut self, f: HeardFrame) {
+        let clock = self.clock;
+        if self.tp.early.is_some_and(|e| e.start == f.start) {
+            // The report of a frame taken early gives it its end.
+            let tick = clock.tick_at_or_after(f.start);
+            self.early_report |=
+                crate::telegram_processor::early_start::take_report(self.tp, clock, tick, f);
+            return;
+        }
+        if crate::telegram_processor::frame_is_mst(&f.bytes) && self.settings.is_sercos_slave() {
+            // A slave's block starts with the MST it receives (410B §4.2.1 TRT): the output
+            // bound is found afresh (a master's or a non-SERCOS chip's reads no MST it
+            // receives, `telegram_processor::next_tx_bound`).
+            self.out_bound.set(None);
+        }
+        let tick = clock.tick_at_or_after(f.start);
+        // While a frame is in progress the next starts at its end at the earliest
+        // (`telegram_processor::first_frame_tick`), which the next ticks hold already.
+        if self.tp.rx_now.is_none() {
+            if let Some(core) = self.next_core.as_mut() {
+                let at = clock.instant(tick);
+                self.quiet &= at > self.now;
+                *core = Some(core.map_or(at, |c| c.min(at)));
+            }
+            if let Some(next) = self.tp_next.as_mut() {
+                // The processor's next tick is the earlier of its own and the first frame's.
+                *next = Some(next.map_or(tick, |k| k.min(tick)));
+            }
+        }
+        self.tp.on_rx_frame(tick, f);
     }
 }

@@ -24,6 +24,7 @@ pub use segment::{FrameHint, LineSegment, LineSignal, Shared};
 use line_events::{Change, LineEvents};
 use port_config::{PortConfig, TxMode};
 use quiet_pins::PinLine;
+pub(crate) use receiver::FrameSink;
 use receiver::{Receiver, Sinks};
 use transmitter::Transmitter;
 
@@ -56,6 +57,20 @@ pub struct RxFrame {
     pub bytes: Vec<u8>,
     /// The frame ended with a flag and its FCS matched.
     pub fcs_ok: bool,
+}
+
+/// A frame sink whose frames go to the receive log first (`SerialPort::line_input`).
+struct Logged<'a, F: FrameSink> {
+    log: &'a mut rx_log::RxLog,
+    frames: &'a mut F,
+}
+
+impl<F: FrameSink> FrameSink for Logged<'_, F> {
+    #[inline(always)]
+    fn take(&mut self, frame: HeardFrame) {
+        self.log.push(&frame);
+        self.frames.take(frame);
+    }
 }
 
 /// A frame as the receiver hands it to the telegram processor and the receive log: an
@@ -218,10 +233,10 @@ impl SerialPort {
     /// `AT_LEVEL` (`Chip::line_input_at_level`): a telegram is first taken to the level the
     /// line is at (inverted when [`receiver::Receiver::off_line_level`]).
     #[must_use]
-    pub(crate) fn line_input<const AT_LEVEL: bool, F: FnMut(HeardFrame)>(
+    pub(crate) fn line_input<const AT_LEVEL: bool, F: FrameSink>(
         &mut self,
         mut seg: LineSegment,
-        mut frames: F,
+        frames: &mut F,
     ) -> bool {
         if AT_LEVEL && self.rx.off_line_level(&seg) {
             seg.invert();
@@ -242,10 +257,9 @@ impl SerialPort {
                 fwd = Some(self.forwarded(seg.clone()));
             }
         }
-        let log = &mut self.rx_log;
-        let mut sink = |f: HeardFrame| {
-            log.push(&f);
-            frames(f);
+        let mut sink = Logged {
+            log: &mut self.rx_log,
+            frames,
         };
         let short = self.rx.input::<AT_LEVEL, _>(
             seg,

@@ -116,8 +116,23 @@ impl ImpliedFiller {
     }
 }
 
+/// Takes each frame the receiver decodes as soon as it is decoded (built in place: no list
+/// in between). A closure is one; the chip's own sink is a type whose `take` is built into
+/// the receiver's short path (`Receiver::filler_to_filler`) rather than called.
+pub(crate) trait FrameSink {
+    /// Takes one frame.
+    fn take(&mut self, frame: HeardFrame);
+}
+
+impl<F: FnMut(HeardFrame)> FrameSink for F {
+    #[inline(always)]
+    fn take(&mut self, frame: HeardFrame) {
+        self(frame);
+    }
+}
+
 /// Where decoded frames go.
-pub(crate) struct Sinks<'a, F: FnMut(HeardFrame)> {
+pub(crate) struct Sinks<'a, F: FrameSink> {
     pub(crate) events: &'a mut LineEvents,
     /// Takes every frame as soon as it is decoded (built in place: no list in between).
     pub(crate) frames: &'a mut F,
@@ -222,7 +237,7 @@ impl Receiver {
     /// `AT_LEVEL`: `seg` was taken to the line's level ([`Receiver::off_line_level`]), so the
     /// level the filler-to-filler path needs is known to be its `level_before` whenever a
     /// segment was received before (debug builds check it).
-    pub(crate) fn input<const AT_LEVEL: bool, F: FnMut(HeardFrame)>(
+    pub(crate) fn input<const AT_LEVEL: bool, F: FrameSink>(
         &mut self,
         seg: LineSegment,
         cfg: &PortConfig,
@@ -246,7 +261,7 @@ impl Receiver {
     }
 
     /// [`Receiver::input`] of any segment.
-    fn input_general<F: FnMut(HeardFrame)>(
+    fn input_general<F: FrameSink>(
         &mut self,
         seg: LineSegment,
         cfg: &PortConfig,
@@ -337,7 +352,8 @@ impl Receiver {
     /// [`Receiver::input`] of a segment [`Receiver::is_filler_to_filler`] accepts, with only
     /// the changes the general path makes: the frame (and its REACTN pulse), the segment
     /// kept, and its implied filler taken with what taking it back needs.
-    fn filler_to_filler<F: FnMut(HeardFrame)>(
+    #[inline(always)]
+    fn filler_to_filler<F: FrameSink>(
         &mut self,
         seg: LineSegment,
         events: &mut LineEvents,
@@ -450,7 +466,7 @@ impl Receiver {
     }
 
     /// Takes one segment without implied filler.
-    fn input_one<F: FnMut(HeardFrame)>(
+    fn input_one<F: FrameSink>(
         &mut self,
         seg: LineSegment,
         cfg: &PortConfig,
@@ -608,7 +624,7 @@ impl Receiver {
     // Out of line: a telegram with a hint (no fault on its way) takes neither; kept out
     // of the delivery path's code (docs/performance.md, session 5).
     #[inline(never)]
-    fn decode<F: FnMut(HeardFrame)>(
+    fn decode<F: FrameSink>(
         &mut self,
         seg: &LineSegment,
         prev_level: bool,
@@ -669,7 +685,7 @@ impl Receiver {
                 // The telegram taken up at a cut (`resume_cut`): its REACTN fall was
                 // scheduled when it first came (410B §2 REACTN); only its end is new.
                 events.push(f.end, Change::Reactn(true));
-                frames(f);
+                frames.take(f);
             } else {
                 deliver(f, bt, events, frames);
             }
@@ -844,7 +860,7 @@ fn error_end(error: &LineError) -> u64 {
 // Inlined: the frame is built by the caller and moved on to the processor's queue; as a call of
 // its own it was read back just after being written (a store-forwarding stall, pair3).
 #[inline(always)]
-fn deliver<F: FnMut(HeardFrame)>(
+fn deliver<F: FrameSink>(
     frame: HeardFrame,
     bit_time: Duration,
     events: &mut LineEvents,
@@ -856,13 +872,13 @@ fn deliver<F: FnMut(HeardFrame)>(
         .min(frame.end);
     events.push(low, Change::Reactn(false));
     events.push(frame.end, Change::Reactn(true));
-    frames(frame);
+    frames.take(frame);
 }
 
 /// Hands the telegram of `seg`'s `hint`, ending at `end`, to the processor with its REACTN
 /// pulse.
 #[inline(always)]
-fn deliver_hinted<F: FnMut(HeardFrame)>(
+fn deliver_hinted<F: FrameSink>(
     seg: &LineSegment,
     hint: &FrameHint,
     end: Instant,
