@@ -40,10 +40,19 @@ impl RxLog {
     /// thousands of frames ago, a cache miss per frame (`docs/performance.md`, "Controller
     /// pair", pair3), while one sweep over the records in order is cheap. [`RxLog::take`]
     /// gives the newest [`RX_LOG_FRAMES`] either way.
+    ///
+    /// Only the check whether the log is on is built into the caller (a simulation keeps it
+    /// off, and every frame any receiver takes passes here).
+    #[inline(always)]
     pub(crate) fn push(&mut self, frame: &HeardFrame) {
-        if !self.on {
-            return;
+        if self.on {
+            self.push_on(frame);
         }
+    }
+
+    /// [`RxLog::push`] while the log is on.
+    #[inline(never)]
+    fn push_on(&mut self, frame: &HeardFrame) {
         if self.records.len() >= RX_LOG_FRAMES + RX_LOG_FRAMES / 8 {
             self.keep_newest(RX_LOG_FRAMES);
         }
