@@ -235,6 +235,12 @@ impl Chip {
                             // it and settle nothing (spec-notes "Chained processor steps").
                             match tp_next {
                                 Some(e) if self.chains_to(e, limit, engine_tick, flags, fifo) => {
+                                    // The memo stands (`chains_to`); a short cycle sync
+                                    // (`Engine::sync_cycle`, a slave's MST) put its new
+                                    // cycle's quiet end there.
+                                    if let Some((_, q)) = self.engine.next_memo {
+                                        quiet = q;
+                                    }
                                     k = e;
                                 }
                                 _ => break,
@@ -247,8 +253,9 @@ impl Chip {
                         // The engine's pin levels follow its interrupt flags, settings,
                         // timing outputs and watchdog. The processor reads the settings,
                         // raises flags, and changes the engine's timing only through
-                        // `sync_cycle` (a slave's MST), which drops the engine's memo: with
-                        // neither, no level can have changed (most processor events).
+                        // `sync_cycle` (a slave's MST), which drops the engine's memo unless
+                        // the new cycle moves no pin but INT0 / INT1: with neither, no level
+                        // but those can have changed (most processor events).
                         if self.engine.next_memo.is_none() {
                             self.settle_tick(k);
                         } else if self.engine.flags.word() != flags {
@@ -334,6 +341,13 @@ impl Chip {
     ) -> bool {
         // `Flags::word`: of 4H only the bits an enabled output carries, the rest whole.
         let carried = !u64::from(!self.engine.s.int_out_lo);
+        // A kept memo still has the turn's next tick (a short cycle sync keeps it).
+        debug_assert!(
+            self.engine
+                .next_memo
+                .is_none_or(|(next, _)| next.filter(|x| *x <= limit) == engine_tick),
+            "the timing control's next tick moved under a chain"
+        );
         self.chained_steps
             && e <= limit
             && engine_tick.is_none_or(|x| x > e)
@@ -690,6 +704,17 @@ impl Chip {
     pub fn set_quiet_cycle_ends(&mut self, on: bool) {
         self.touched();
         self.engine.quiet_ends = on;
+    }
+
+    /// Whether a slave's cycle synchronised by an MST after its previous cycle ended (on an
+    /// intact ring, quietly on the MST's own tick) is started the short way, keeping what the
+    /// chip remembers of the timing control's next ticks when the start moves no pin but
+    /// INT0 / INT1 (on after [`Chip::new`]). Off, every MST starts the cycle the general way:
+    /// the two read and emit the same (a switch for comparing them; spec-notes "Short cycle
+    /// syncs").
+    pub fn set_short_cycle_syncs(&mut self, on: bool) {
+        self.touched();
+        self.engine.short_syncs = on;
     }
 
     /// The pins currently traced.

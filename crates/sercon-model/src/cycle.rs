@@ -429,6 +429,12 @@ impl Engine {
 impl Engine {
     /// A slave's cycle restarts at tick `at`, the end of a received MST, with block
     /// `block`; it runs one cycle (TSCYC) unless the next MST comes first.
+    ///
+    /// When the previous cycle has ended (on an intact ring at the MST's own tick, quietly)
+    /// and no start is pending, the new cycle is started the short way
+    /// ([`Engine::sync_after_end`]), which keeps the memo of the next ticks when the start
+    /// moves no pin but INT0 / INT1; otherwise the memo is dropped (spec-notes "Short cycle
+    /// syncs").
     // 410B §4.2.1 TRT "after end of MST": the MST synchronises the slave (spec-notes
     // "slave cycle").
     pub(crate) fn sync_cycle(&mut self, at: u64, block: u8) {
@@ -437,6 +443,21 @@ impl Engine {
             self.quiet_end().is_none_or(|q| q >= at),
             "quiet end skipped"
         );
+        // `crate::mst::mst_end` synchronises SERCOS slaves only (410B §4.2.1 TRT).
+        debug_assert!(!self.s.sends_mst(), "a master's cycle synchronised");
+        if self.short_syncs
+            && self.cycle.run.is_none()
+            && self.cycle.pending.is_none()
+            && self.sync_after_end(at, block)
+        {
+            return;
+        }
+        self.sync_general(at, block);
+    }
+
+    /// [`Engine::sync_cycle`] the general way: the running cycle (if any) cut short, a new
+    /// one started from the settings, the memo of the next ticks dropped.
+    fn sync_general(&mut self, at: u64, block: u8) {
         self.next_memo = None;
         self.cycle.pending = None;
         if self.cycle.run.is_some() {
@@ -445,5 +466,91 @@ impl Engine {
         self.start_cycle_block(at, true, block);
         self.cycle.continuous = false;
         self.cycle.cycles_left = 1;
+    }
+
+    /// [`Engine::sync_cycle`] when no cycle runs and no start is pending (the previous
+    /// cycle ended, on an intact ring quietly on the MST's own tick): what
+    /// [`Engine::start_cycle_block`] and the slave's one-cycle count leave, done directly
+    /// when nothing but the block's length and plan decide it (the plan built for TCNTST
+    /// and that length, so it stands; DIVCLKMODE's countdown not in use; no watchdog
+    /// trigger, which only a master's start gives). Returns false, having changed nothing,
+    /// when that is not so.
+    ///
+    /// The memo of the next ticks stays valid when the new cycle's only event is its end
+    /// (no plan entry after offset 0, no DIV_CLK pulse) and that end is quiet, with the
+    /// same next tick as before (the watchdog's: no cycle tick before or after): it then
+    /// holds that end; and the start then leaves CON_CLK, DIV_CLK and WDOGN as they were,
+    /// so only INT0 / INT1 can change (`Chip::advance_to` settles those after the
+    /// processor's steps). Otherwise the memo is dropped, as the general way does. Debug
+    /// builds run the general way on a copy and compare the whole engine.
+    fn sync_after_end(&mut self, at: u64, block: u8) -> bool {
+        // 410B §4.1 0FH/10H: the block's TSCYC; TCNT starts at TCNTST (spec-notes "TCNT").
+        let block = block & 1;
+        let tcntst = self.s.tcntst;
+        let len = next_match(self.tscyc(block), tcntst, 0);
+        // 816 §2.7 DIVCLKMODE = 1 counts cycles: the general way.
+        if self.plan_key != Some((tcntst, len)) || (self.s.divclkmode && self.s.ndivclk != 0) {
+            return false;
+        }
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut g = self.clone();
+            g.sync_general(at, block);
+            g
+        };
+        let start = self.plan.start;
+        let run = Run {
+            ref_tick: at,
+            ref_e: 0,
+            len,
+            block,
+            tcntst,
+            cursor: start.count,
+            pulse_cycle: false,
+        };
+        self.cycle.run = Some(run);
+        self.cycle.last_block = block;
+        // The slave runs this one cycle unless the next MST comes first (410B §4.2.1 TRT).
+        self.cycle.continuous = false;
+        self.cycle.cycles_left = 1;
+        // 410B §4.1 4H.2/3 INT_COMBLK0/1; the offset-0 entries as `start_cycle_block`
+        // applies them (`CyclePlan::start`; DIVCLKMODE = 0 or NDIVCLK = 0 here).
+        self.flags.lo |= if block == 0 { INT_COMBLK0 } else { INT_COMBLK1 };
+        self.flags.hi |= start.set_hi;
+        let pulse = start.divclk_pulse && !self.s.divclkmode;
+        if pulse {
+            self.flags.hi |= INT_DIVCLK;
+        }
+        let conclk = start.conclk.unwrap_or(self.outputs.conclk_set);
+        // No pulse runs without a cycle (`end_cycle`, `end_quietly`).
+        debug_assert_eq!(self.outputs.divclk_until, None);
+        let moves_outputs = pulse || conclk != self.outputs.conclk_set;
+        self.outputs.conclk_set = conclk;
+        self.outputs.divclk_until = pulse.then(|| 1.min(len));
+        self.next_memo = match self.next_memo {
+            Some((next, _))
+                if !moves_outputs && self.quiet_ends && self.plan.entries.len() == start.count =>
+            {
+                // The end is the only event: quiet (the slave's last cycle, MSTEN set,
+                // nothing pending: `Engine::cycle_ticks`) unless it saturated.
+                let end = self.e_tick(&run, len);
+                (end != u64::MAX).then_some((next, end))
+            }
+            _ => None,
+        };
+        #[cfg(debug_assertions)]
+        {
+            let mut g = general;
+            g.next_memo = self.next_memo;
+            assert_eq!(&g, self, "a short cycle sync against the general one");
+            if let Some(memo) = self.next_memo {
+                assert_eq!(memo, self.next_ticks(), "a short cycle sync's memo");
+                // CON_CLK, DIV_CLK and WDOGN as they were (INT0 / INT1 are settled later).
+                let mut levels = self.compute_levels();
+                levels[..2].copy_from_slice(&self.levels[..2]);
+                assert_eq!(levels, self.levels, "a short cycle sync moved a pin");
+            }
+        }
+        true
     }
 }

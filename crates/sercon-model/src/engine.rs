@@ -59,6 +59,10 @@ pub(crate) struct Engine {
     /// A quiet cycle end is no event of its own ([`Engine::quiet_end`]); off, every end is
     /// a step (a switch for comparing both, `Chip::set_quiet_cycle_ends`).
     pub(crate) quiet_ends: bool,
+    /// A slave's cycle synchronised by an MST after its previous cycle ended takes the short
+    /// way ([`Engine::sync_cycle`]); off, always the general one (a switch for comparing
+    /// both, `Chip::set_short_cycle_syncs`).
+    pub(crate) short_syncs: bool,
 }
 
 impl Engine {
@@ -82,6 +86,7 @@ impl Engine {
             levels: [false; 5],
             next_memo: None,
             quiet_ends: true,
+            short_syncs: true,
         };
         engine.levels = engine.compute_levels();
         engine
@@ -136,7 +141,7 @@ impl Engine {
     }
 
     /// [`Engine::next_tick`] and [`Engine::quiet_end`] (`u64::MAX` for none).
-    fn next_ticks(&self) -> (Option<u64>, u64) {
+    pub(crate) fn next_ticks(&self) -> (Option<u64>, u64) {
         let (c, quiet) = self.cycle_ticks();
         let w = self.wd.next_tick();
         let next = match (c, w) {

@@ -17,6 +17,7 @@ pub(crate) fn reset_state(chip: &mut Chip, at: u64) {
     chip.engine = Engine {
         // A switch of the model, not a register: it survives the reset.
         quiet_ends: chip.engine.quiet_ends,
+        short_syncs: chip.engine.short_syncs,
         ..Engine::after_reset(chip.cfg.variant, &chip.cfg.straps, at)
     };
     // The telegram processor stops; frames already on their way are still delivered.

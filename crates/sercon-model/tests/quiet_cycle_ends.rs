@@ -5,7 +5,11 @@
 //! step, whatever NCYC, TSCYC, TINT0–3, DIV_CLK, ENTMT / MSTEN and the interrupt enables say,
 //! whether a slave's cycle ends before, at or after its next MST and whatever the hosts read
 //! (TCNT by RDCNT, COMACT / COMBLK, the flags) or write meanwhile (spec-notes "Quiet cycle
-//! ends"; 410B §4.1 3H.6-7, 4H.2-4, 0CH, 0FH–14H, 1AH–20H; §4.2.1 TRT).
+//! ends"; 410B §4.1 3H.6-7, 4H.2-4, 0CH, 0FH–14H, 1AH–20H; §4.2.1 TRT). Likewise slaves whose
+//! MSTs start the next cycle the short way once the last one ended (`Chip::set_short_cycle_syncs`,
+//! on by default) against slaves that always take the general way, with the hosts also writing
+//! TINT0 / TINT1 and the phases between cycles and the frames arriving up to 120 µs ahead
+//! (spec-notes "Short cycle syncs").
 
 mod common;
 mod harness;
@@ -14,6 +18,7 @@ use harness::*;
 use proptest::prelude::*;
 use sercon_model::Chip;
 use sercon_model::pins::{Pin, PinEvent, PinSet};
+use sercon_regs::ram::header::TxEnable;
 use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
 use sercos_wire::time::{Duration, Instant};
 
@@ -23,8 +28,9 @@ const ENINT1: u16 = 1 << 4;
 /// 410B §4.1 0CH.5 ENCONCLK, 0CH.11 RDCNT.
 const ENCONCLK: u16 = 1 << 5;
 const RDCNT: u16 = 1 << 11;
-/// 410B §4.1 0CH.2 COMBLK0.
+/// 410B §4.1 0CH.2 COMBLK0, 0CH.3 COMBLK1.
 const COMBLK0: u16 = 1 << 2;
+const COMBLK1: u16 = 1 << 3;
 /// 816 §2.11.2 28H.0 WDOG_START, 28H.2 WDOUT_SET.
 const WDOG_START: u16 = 1 << 0;
 const WDOUT_SET: u16 = 1 << 2;
@@ -137,7 +143,9 @@ fn drain(c: &mut Chip) -> Vec<PinEvent> {
 /// retrigger the timing control (CYCSTART; a slave ignores it), start the watchdog with
 /// TWDOG and its output on (816 §2.6, 28H WDOG_START / WDOUT_SET, 2AH TWDOG; its expiry
 /// clears ENTMT, which may make the next cycle end loud), write a new MCLKDIV (the µs
-/// changes length mid-cycle, 410B §4.1 0EH).
+/// changes length mid-cycle, 410B §4.1 0EH), write TINT0 and TINT1 (1AH / 1BH: the cycle's
+/// plan and CON_CLK's edges change), write PHAS0 (0AH: a master's MST then carries that
+/// phase, a slave expects it).
 #[derive(Debug, Clone, Copy)]
 enum Act {
     Nothing,
@@ -147,6 +155,8 @@ enum Act {
     Retrigger,
     Watchdog(u16),
     Mclkdiv(u16),
+    Tint(u16, u16),
+    Phase(u8),
 }
 
 fn act() -> impl Strategy<Value = Act> {
@@ -158,6 +168,9 @@ fn act() -> impl Strategy<Value = Act> {
         1 => Just(Act::Retrigger),
         1 => (1u16..300).prop_map(Act::Watchdog),
         1 => (15u16..40).prop_map(Act::Mclkdiv),
+        1 => (prop_oneof![1 => Just(0u16), 2 => 0u16..140], 0u16..140)
+            .prop_map(|(t0, t1)| Act::Tint(t0, t1)),
+        1 => prop_oneof![3 => Just(4u8), 1 => 0u8..8].prop_map(Act::Phase),
     ]
 }
 
@@ -188,6 +201,16 @@ fn apply(c: &mut Chip, a: Act) -> Option<(Option<Instant>, Vec<u16>)> {
             c.write(Register::MclkDiv, v);
             None
         }
+        Act::Tint(t0, t1) => {
+            c.write(Register::Tint0, t0);
+            c.write(Register::Tint1, t1);
+            None
+        }
+        Act::Phase(p) => {
+            let phas = c.read(Register::Phas);
+            c.write(Register::Phas, (phas & 0xFF00) | u16::from(p));
+            None
+        }
     }
 }
 
@@ -195,7 +218,8 @@ fn apply(c: &mut Chip, a: Act) -> Option<(Option<Instant>, Vec<u16>)> {
 /// and its TSCYC0 is `tscyc0` (TSCYC1 its cycle), so what it reads of the cycle in progress
 /// at an MST (the block whose TSCYC times the next one, `crate::mst`) differs from what it
 /// reads after the cycle ended; with `msttchk` it checks each MST's time (25H.10 MSTTCHK,
-/// JTSCYC1/2 = 3).
+/// JTSCYC1/2 = 3). Its PHAS1 is 3 with COMBLK1 = 1 (0AH, 0CH.3): an MST of phase 3 starts
+/// block 1, one of a phase other than 3 or PHAS0 none (INT_PHASERR).
 #[derive(Debug, Clone, Copy)]
 struct SlaveMst {
     block1: bool,
@@ -203,10 +227,24 @@ struct SlaveMst {
     msttchk: bool,
 }
 
+/// The model's short ways compared: quiet cycle ends (`Chip::set_quiet_cycle_ends`) and
+/// short cycle syncs (`Chip::set_short_cycle_syncs`).
+#[derive(Debug, Clone, Copy)]
+struct Ways {
+    quiet: bool,
+    short: bool,
+}
+
+/// Both short ways on (the default).
+const ALL: Ways = Ways {
+    quiet: true,
+    short: true,
+};
+
 /// A master (NCYC `ncyc`, timing `mt`) and one slave (timing `st`; its TSCYC decides
 /// whether its cycle ends before, at or after the next MST; MSTs as `sm` says) in phase 4,
-/// both quiet ends `quiet`.
-fn ring(mt: &Timing, st: &Timing, sm: SlaveMst, ncyc: u16, quiet: bool) -> Ring {
+/// with the short ways `ways`, fibres of `delay_us`.
+fn ring(mt: &Timing, st: &Timing, sm: SlaveMst, ncyc: u16, ways: Ways, delay_us: u64) -> Ring {
     let v = Variant::Sercon816;
     let mut m = chip(v);
     let mut sl = chip(v);
@@ -214,9 +252,10 @@ fn ring(mt: &Timing, st: &Timing, sm: SlaveMst, ncyc: u16, quiet: bool) -> Ring 
     program(&mut m, mt);
     program(&mut sl, st);
     for c in [&mut m, &mut sl] {
-        c.set_quiet_cycle_ends(quiet);
+        c.set_quiet_cycle_ends(ways.quiet);
+        c.set_short_cycle_syncs(ways.short);
     }
-    sl.write(Register::Phas, 0xFF04);
+    sl.write(Register::Phas, 0x0304);
     if sm.block1 {
         sl.write(Register::Tscyc0, sm.tscyc0);
     }
@@ -226,17 +265,18 @@ fn ring(mt: &Timing, st: &Timing, sm: SlaveMst, ncyc: u16, quiet: bool) -> Ring 
         sl.write(Register::Thrpt, MSTTCHK);
     }
     let comblk0 = if sm.block1 { COMBLK0 } else { 0 };
-    sl.write(Register::Ctrl0C, MSTEN | ENCONCLK | comblk0);
+    sl.write(Register::Ctrl0C, MSTEN | ENCONCLK | comblk0 | COMBLK1);
     m.write(Register::Phas, 0x0404);
     m.write(
         Register::Ctrl0C,
         MSTEN | MSTMASTER | ENCONCLK | (ncyc << 12) | CYCSTART,
     );
     let mut ring = Ring::new(m, sl);
-    ring.delay = Duration::from_micros(3);
+    ring.delay = Duration::from_micros(delay_us);
     ring
 }
 
+/// Quiet cycle ends against ends as steps (fibres of 3 µs).
 fn same_rings(
     mt: &Timing,
     st: &Timing,
@@ -244,30 +284,51 @@ fn same_rings(
     ncyc: u16,
     steps: &[(u64, Act, Act)],
 ) -> Result<(), TestCaseError> {
-    let (mut quiet, mut every) = (ring(mt, st, sm, ncyc, true), ring(mt, st, sm, ncyc, false));
+    let every = Ways {
+        quiet: false,
+        ..ALL
+    };
+    same_rings_as(mt, st, sm, ncyc, steps, every, 3)
+}
+
+/// Rings with both short ways against rings with the short ways `other`, fibres of
+/// `delay_us`: the same pin events and host views at each step, the same telegrams.
+fn same_rings_as(
+    mt: &Timing,
+    st: &Timing,
+    sm: SlaveMst,
+    ncyc: u16,
+    steps: &[(u64, Act, Act)],
+    other: Ways,
+    delay_us: u64,
+) -> Result<(), TestCaseError> {
+    let (mut ours, mut theirs) = (
+        ring(mt, st, sm, ncyc, ALL, delay_us),
+        ring(mt, st, sm, ncyc, other, delay_us),
+    );
     let mut t = 0;
     for (hop, am, asl) in steps {
         t += hop;
-        quiet.run_to(us(t));
-        every.run_to(us(t));
+        ours.run_to(us(t));
+        theirs.run_to(us(t));
         prop_assert_eq!(
-            drain(&mut quiet.master),
-            drain(&mut every.master),
+            drain(&mut ours.master),
+            drain(&mut theirs.master),
             "master by {} µs",
             t
         );
         prop_assert_eq!(
-            drain(&mut quiet.slave),
-            drain(&mut every.slave),
+            drain(&mut ours.slave),
+            drain(&mut theirs.slave),
             "slave by {} µs",
             t
         );
-        prop_assert_eq!(apply(&mut quiet.master, *am), apply(&mut every.master, *am));
-        prop_assert_eq!(apply(&mut quiet.slave, *asl), apply(&mut every.slave, *asl));
+        prop_assert_eq!(apply(&mut ours.master, *am), apply(&mut theirs.master, *am));
+        prop_assert_eq!(apply(&mut ours.slave, *asl), apply(&mut theirs.slave, *asl));
     }
-    prop_assert_eq!(&quiet.log, &every.log);
-    prop_assert_eq!(host_view(&mut quiet.master), host_view(&mut every.master));
-    prop_assert_eq!(host_view(&mut quiet.slave), host_view(&mut every.slave));
+    prop_assert_eq!(&ours.log, &theirs.log);
+    prop_assert_eq!(host_view(&mut ours.master), host_view(&mut theirs.master));
+    prop_assert_eq!(host_view(&mut ours.slave), host_view(&mut theirs.slave));
     Ok(())
 }
 
@@ -319,6 +380,24 @@ proptest! {
         steps in proptest::collection::vec((1u64..40, act(), act()), 1..40),
     ) {
         same_rings(&mt, &st, sm, ncyc, &steps)?;
+    }
+
+    #[test]
+    fn short_cycle_syncs_in_a_ring_read_as_general_ones(
+        mt in timing(Just(100u16)),
+        // The slave's cycle ends before, at or after the next MST (100 µs apart).
+        st in timing(prop_oneof![2 => Just(100u16), 1 => 20u16..100, 1 => 100u16..140]),
+        sm in (any::<bool>(), 20u16..200, any::<bool>())
+            .prop_map(|(block1, tscyc0, msttchk)| SlaveMst { block1, tscyc0, msttchk }),
+        ncyc in prop_oneof![2 => Just(0u16), 1 => 1u16..5],
+        quiet in any::<bool>(),
+        // Frames up to 120 µs ahead: an advance may chain the processor's steps from one
+        // MST past the cycle end it synchronised.
+        delay_us in prop_oneof![2 => 1u64..8, 1 => 8u64..120],
+        steps in proptest::collection::vec((1u64..40, act(), act()), 1..40),
+    ) {
+        let general = Ways { quiet, short: false };
+        same_rings_as(&mt, &st, sm, ncyc, &steps, general, delay_us)?;
     }
 
     #[test]
@@ -403,5 +482,182 @@ fn a_quiet_end_before_a_watchdog_expiry_in_the_same_advance() {
             (1_000_000, Act::Look),
         ];
         same_alone(&t, 1, 0, &steps).unwrap_or_else(|e| panic!("TWDOG {twdog}: {e}"));
+    }
+}
+
+/// A slave synchronised by MSTs one master cycle apart takes each new cycle the short way
+/// when its last one has ended (its TSCYC as long as the master's or shorter, its µs a
+/// MCLK period shorter, 410B §4.1 0EH) and the general way when the MST cuts it short (its
+/// TSCYC or its µs longer: the MST comes early); with only the offset-0 entries of the ring
+/// of the bench, with CON_CLK rising at each start (TINT0 = 0, TINT1 later), with entries
+/// after the start, with a DIV_CLK pulse at the start, with DIVCLKMODE = 1 (816 §2.7), with
+/// the hosts writing TINT0 / TINT1 and TSCYC0 between cycles and the master sending another
+/// phase for a while (410B §4.1 0AH: block 1 by PHAS1, then a phase error), with frames 3 µs
+/// and 90 µs ahead. Each reads and emits as with the general way.
+#[test]
+fn short_cycle_syncs_of_a_steady_slave_read_as_general_ones() {
+    let cases: [([u16; 4], (u16, u16, u16)); 5] = [
+        ([0; 4], (0, 0, 0)),
+        ([0, 50, 0, 0], (0, 0, 0)),
+        ([7, 33, 0, 90], (0, 0, 0)),
+        ([0; 4], (0, 0, 1)),
+        ([0; 4], (0, 0, 0x202)),
+    ];
+    for (tint, divclk) in cases {
+        for (tscyc, mclkdiv) in [(100, 31), (60, 31), (100, 30), (130, 31), (100, 32)] {
+            for delay_us in [3, 90, 250] {
+                let mt = Timing {
+                    tscyc: 100,
+                    tint,
+                    divclk,
+                    tcntst: 0,
+                    en: [0xFFFF, 0, 0, 0xFFFF],
+                    entmt: true,
+                };
+                let st = Timing { tscyc, ..mt };
+                let steps: Vec<(u64, Act, Act)> = (1..=150)
+                    .map(|i| {
+                        let (am, asl) = match i % 40 {
+                            1 => (Act::Nothing, Act::Mclkdiv(mclkdiv)),
+                            5 => (Act::Phase(3), Act::Look),
+                            9 => (Act::Phase(4), Act::Nothing),
+                            13 => (Act::Nothing, Act::Tint(0, 20)),
+                            17 => (Act::Phase(6), Act::Nothing),
+                            21 => (Act::Phase(4), Act::Tint(tint[0], tint[1])),
+                            25 => (Act::Nothing, Act::Tscyc(70)),
+                            29 => (Act::Nothing, Act::Tscyc(tscyc)),
+                            n if n % 4 == 0 => (Act::Look, Act::Look),
+                            n if n % 4 == 2 => (Act::Clear, Act::Clear),
+                            _ => (Act::Nothing, Act::Nothing),
+                        };
+                        (7, am, asl)
+                    })
+                    .collect();
+                let sm = SlaveMst {
+                    block1: false,
+                    tscyc0: 100,
+                    msttchk: true,
+                };
+                let general = Ways {
+                    quiet: true,
+                    short: false,
+                };
+                same_rings_as(&mt, &st, sm, 0, &steps, general, delay_us).unwrap_or_else(|e| {
+                    panic!("TINT {tint:?}, DIV_CLK {divclk:?}, TSCYC {tscyc}, MCLKDIV {mclkdiv}, {delay_us} µs: {e}")
+                });
+            }
+        }
+    }
+}
+
+/// A chip that ran one cycle of its own (NCYC = 1, its plan built), triggered again
+/// (CYCSTART after a long TCYCSTART, 410B §4.1 0CH.10, 0CH.12-15, 14H) and then made a slave
+/// (MSTEN) before that start: its first MST synchronises it and the pending start is dropped
+/// (`sync_cycle`; 410B §4.2.1 TRT), the general way, not the short one, which needs no start
+/// pending.
+#[test]
+fn a_start_pending_at_a_slaves_first_mst_is_dropped_as_the_general_way_drops_it() {
+    let t = Timing {
+        tscyc: 100,
+        tint: [0; 4],
+        divclk: (0, 0, 0),
+        tcntst: 0,
+        en: [0xFFFF, 0xFFFF, 0, 0],
+        entmt: true,
+    };
+    let sm = SlaveMst {
+        block1: false,
+        tscyc0: 100,
+        msttchk: false,
+    };
+    let pending = |ways: Ways| {
+        let mut r = ring(&t, &t, sm, 0, ways, 3);
+        r.slave
+            .write(Register::Ctrl0C, ENCONCLK | (1 << 12) | CYCSTART);
+        r.run_to(us(150));
+        r.slave.write(Register::Tcycstart, 1000);
+        r.slave
+            .write(Register::Ctrl0C, ENCONCLK | (1 << 12) | CYCSTART);
+        r.slave.write(Register::Ctrl0C, MSTEN | ENCONCLK);
+        r
+    };
+    let (mut ours, mut theirs) = (
+        pending(ALL),
+        pending(Ways {
+            quiet: true,
+            short: false,
+        }),
+    );
+    for t in (160..=1500).step_by(10) {
+        ours.run_to(us(t));
+        theirs.run_to(us(t));
+        assert_eq!(
+            drain(&mut ours.slave),
+            drain(&mut theirs.slave),
+            "by {t} µs"
+        );
+        assert_eq!(
+            host_view(&mut ours.slave),
+            host_view(&mut theirs.slave),
+            "by {t} µs"
+        );
+    }
+    assert_eq!(ours.log, theirs.log);
+}
+
+/// A slave that sends nothing (its AT header off, 410B §4.2.1 EN = 0; its repeater off) and
+/// receives its frames
+/// 250 µs ahead: one advance takes the processor's steps from an MST's end through the MDT
+/// to the next MST's end as one chain (spec-notes "Chained processor steps"), past the quiet
+/// end of the cycle the first MST started (its TSCYC as long as the master's, or shorter).
+/// The chain applies that end before the next MST synchronises the slave (the short sync put
+/// it in the timing control's memo), and reads and emits as with the general way.
+#[test]
+fn a_chain_from_one_mst_past_the_cycle_end_it_synchronised() {
+    let mt = Timing {
+        tscyc: 100,
+        tint: [0; 4],
+        divclk: (0, 0, 0),
+        tcntst: 0,
+        en: [0; 4],
+        entmt: true,
+    };
+    let sm = SlaveMst {
+        block1: false,
+        tscyc0: 100,
+        msttchk: true,
+    };
+    for tscyc in [30, 60, 100] {
+        let st = Timing { tscyc, ..mt };
+        let silent = |ways: Ways| {
+            let mut r = ring(&mt, &st, sm, 0, ways, 250);
+            tx_header(&mut r.slave, 31, tx(1, TxEnable::Off, 40, 8, 44));
+            // 410B §4.1 1H.3 REPON = 0: nothing to forward either.
+            let c1 = r.slave.read(Register::Ctrl1);
+            r.slave.write(Register::Ctrl1, c1 & !REPON);
+            r
+        };
+        let (mut ours, mut theirs) = (
+            silent(ALL),
+            silent(Ways {
+                quiet: true,
+                short: false,
+            }),
+        );
+        for t in (1..=16).map(|i| i * 250) {
+            ours.run_to(us(t));
+            theirs.run_to(us(t));
+            assert_eq!(
+                drain(&mut ours.slave),
+                drain(&mut theirs.slave),
+                "by {t} µs"
+            );
+            assert_eq!(
+                host_view(&mut ours.slave),
+                host_view(&mut theirs.slave),
+                "by {t} µs"
+            );
+        }
+        assert_eq!(ours.log, theirs.log);
     }
 }
