@@ -224,8 +224,9 @@ impl Chip {
                         let mut k = first;
                         loop {
                             if k >= quiet && quiet != u64::MAX {
+                                // The memo's quiet end is none after it (`chains_to` hands
+                                // that on).
                                 self.engine.end_quietly(quiet);
-                                quiet = u64::MAX;
                             }
                             crate::telegram_processor::step(self, k);
                             tp_next = crate::telegram_processor::next_tick(self);
@@ -233,17 +234,18 @@ impl Chip {
                             // else this loop would take and the steps so far changed no pin
                             // level, is taken at once: the turn in between would only find
                             // it and settle nothing (spec-notes "Chained processor steps").
-                            match tp_next {
-                                Some(e) if self.chains_to(e, limit, engine_tick, flags, fifo) => {
-                                    // The memo stands (`chains_to`); a short cycle sync
-                                    // (`Engine::sync_cycle`, a slave's MST) put its new
-                                    // cycle's quiet end there.
-                                    if let Some((_, q)) = self.engine.next_memo {
-                                        quiet = q;
-                                    }
+                            // The timing control's memo stands; a short cycle sync
+                            // (`Engine::sync_cycle`, a slave's MST) put its new cycle's quiet
+                            // end there.
+                            match tp_next.and_then(|e| {
+                                self.chains_to(e, limit, engine_tick, flags, fifo)
+                                    .map(|q| (e, q))
+                            }) {
+                                Some((e, q)) => {
+                                    quiet = q;
                                     k = e;
                                 }
-                                _ => break,
+                                None => break,
                             }
                         }
                         // Most steps leave the FIFOs alone, with no DMA pin traced: no call.
@@ -327,9 +329,11 @@ impl Chip {
     /// any serial-port change the loop applies first, and the steps since the turn began
     /// (from interrupt flags `flags` and FIFO state `fifo`) changed no pin level: no flag an
     /// enabled interrupt output carries (`Settings::int_out_lo`, and the flags of 5H, WDOG
-    /// and RSCEND unchanged), the timing control's memo kept (no `sync_cycle`), the FIFOs as
-    /// they were with no DMA pin traced. The loop's settling after the last step then emits
-    /// what the steps changed, at that step's tick, as the turns one by one would.
+    /// and RSCEND unchanged), the timing control's memo kept (no `sync_cycle` dropped it),
+    /// the FIFOs as they were with no DMA pin traced. The loop's settling after the last step
+    /// then emits what the steps changed, at that step's tick, as the turns one by one would.
+    /// Returns the memo's quiet cycle end (`u64::MAX` for none) when it may, `None`
+    /// otherwise.
     #[inline]
     fn chains_to(
         &self,
@@ -338,7 +342,7 @@ impl Chip {
         engine_tick: Option<u64>,
         flags: u64,
         fifo: Option<crate::telegram_processor::FifoState>,
-    ) -> bool {
+    ) -> Option<u64> {
         // `Flags::word`: of 4H only the bits an enabled output carries, the rest whole.
         let carried = !u64::from(!self.engine.s.int_out_lo);
         // A kept memo still has the turn's next tick (a short cycle sync keeps it).
@@ -348,16 +352,17 @@ impl Chip {
                 .is_none_or(|(next, _)| next.filter(|x| *x <= limit) == engine_tick),
             "the timing control's next tick moved under a chain"
         );
-        self.chained_steps
+        let (_, quiet) = self.engine.next_memo?;
+        (self.chained_steps
             && e <= limit
             && engine_tick.is_none_or(|x| x > e)
-            && self.engine.next_memo.is_some()
             && (self.engine.flags.word() ^ flags) & carried == 0
             && self.tp.fifo.unchanged_since(fifo)
             && !self.dma_pins_traced()
             && self
                 .serial_next_loud_event()
-                .is_none_or(|a| a > self.clock.instant(e))
+                .is_none_or(|a| a > self.clock.instant(e)))
+        .then_some(quiet)
     }
 
     /// [`Chip::advance_to`] for an instant before [`Chip::next_output_bound`] (a simulation
