@@ -76,6 +76,47 @@ pub struct Chip {
     pub(crate) chained_steps: bool,
 }
 
+/// What [`Chip::advance_to`]'s loop knows when it hands the telegram processor a step
+/// (`telegram_processor::step`): enough for the processor to tell whether the loop would
+/// take its next event at once after this one ([`Chip::chains_to`]), with no quiet cycle
+/// end before it (spec-notes "Chained processor steps", "Quiet cycle ends"). A received
+/// telegram whose end is that next event is then started and ended in one step
+/// (`receive::frame_start`).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Chain {
+    /// The last MCLK tick of the advance.
+    pub(crate) limit: u64,
+    /// The timing control's next tick, if due by `limit` (it goes first at equal ticks).
+    pub(crate) engine_tick: Option<u64>,
+    /// The interrupt flags when the loop's turn began (`Flags::word`).
+    pub(crate) flags: u64,
+    /// The FIFO state when the loop's turn began (`DmaFifos::snapshot`).
+    pub(crate) fifo: Option<crate::telegram_processor::FifoState>,
+    /// The quiet cycle end still to apply (`u64::MAX` for none): a step at or after it
+    /// applies it first.
+    pub(crate) quiet: u64,
+}
+
+impl Chain {
+    /// No step may be joined to the next (a step outside the loop's chain).
+    #[cfg(debug_assertions)]
+    pub(crate) const NONE: Chain = Chain {
+        limit: 0,
+        engine_tick: None,
+        flags: 0,
+        fifo: None,
+        quiet: 0,
+    };
+
+    /// Whether the loop would take the processor's event at tick `e`, found next right
+    /// after the step it handed over, at once ([`Chip::chains_to`]) with no quiet cycle
+    /// end applied before it.
+    #[inline]
+    pub(crate) fn allows(&self, chip: &Chip, e: u64) -> bool {
+        e < self.quiet && chip.chains_to(e, self.limit, self.engine_tick, self.flags, self.fifo)
+    }
+}
+
 impl Chip {
     /// A chip at time 0, as after RSTN. An invalid configuration (MCLK of 0 Hz, see
     /// [`ChipConfig::validate`]) runs with its MCLK clamped to 1 Hz ..= 1 THz.
@@ -228,8 +269,33 @@ impl Chip {
                                 // that on).
                                 self.engine.end_quietly(quiet);
                             }
-                            crate::telegram_processor::step(self, k);
-                            tp_next = crate::telegram_processor::next_tick(self);
+                            let chain = Chain {
+                                limit,
+                                engine_tick,
+                                flags,
+                                fifo,
+                                quiet,
+                            };
+                            #[cfg(debug_assertions)]
+                            let general = (crate::telegram_processor::first_frame_tick(self)
+                                == Some(k))
+                            .then(|| self.clone());
+                            // A received telegram's start and end may be one step
+                            // (`Chain`): `k` is then its end.
+                            #[cfg(debug_assertions)]
+                            let started = k;
+                            let next;
+                            (k, next) = crate::telegram_processor::step(self, k, &chain);
+                            #[cfg(debug_assertions)]
+                            if k != started
+                                && let Some(g) = general
+                            {
+                                self.check_joined_frame(g, started, k, &chain);
+                            }
+                            tp_next = match next {
+                                Some(next) => next,
+                                None => crate::telegram_processor::next_tick(self),
+                            };
                             // The processor's next event, when it comes before anything
                             // else this loop would take and the steps so far changed no pin
                             // level, is taken at once: the turn in between would only find
@@ -335,7 +401,7 @@ impl Chip {
     /// Returns the memo's quiet cycle end (`u64::MAX` for none) when it may, `None`
     /// otherwise.
     #[inline]
-    fn chains_to(
+    pub(crate) fn chains_to(
         &self,
         e: u64,
         limit: u64,
@@ -363,6 +429,32 @@ impl Chip {
                 .serial_next_loud_event()
                 .is_none_or(|a| a > self.clock.instant(e)))
         .then_some(quiet)
+    }
+
+    /// Debug builds: a received telegram's start at `start` and end at `end` taken as one
+    /// step (`Chain`) leave the chip as the general path does from `general` (the chip
+    /// before that step): the start's step, the processor's next tick found to be `end`
+    /// and chained to (no quiet cycle end before it), the end's step.
+    #[cfg(debug_assertions)]
+    fn check_joined_frame(&self, mut general: Chip, start: u64, end: u64, chain: &Chain) {
+        let (last, _) = crate::telegram_processor::step(&mut general, start, &Chain::NONE);
+        debug_assert_eq!(last, start, "a step that may not join took two");
+        debug_assert_eq!(
+            crate::telegram_processor::next_tick(&general),
+            Some(end),
+            "a joined frame's end is the processor's next tick"
+        );
+        debug_assert!(
+            chain.allows(&general, end),
+            "a joined frame's end is chained to"
+        );
+        let (last, _) = crate::telegram_processor::step(&mut general, end, &Chain::NONE);
+        debug_assert_eq!(last, end);
+        debug_assert_eq!(
+            format!("{general:?}"),
+            format!("{self:?}"),
+            "a received telegram's start and end in one step"
+        );
     }
 
     /// [`Chip::advance_to`] for an instant before [`Chip::next_output_bound`] (a simulation

@@ -33,7 +33,7 @@ use sercon_regs::Register;
 use sercon_regs::ram::header::TxEnable;
 use sercos_wire::time::Instant;
 
-use crate::chip::Chip;
+use crate::chip::{Chain, Chip};
 use crate::interrupts::INT_COMEND;
 use fifo::DmaFifos;
 pub(crate) use fifo::FifoState;
@@ -372,6 +372,16 @@ impl TelegramProcessor {
     /// otherwise they are applied with the processor's next event or a bus access
     /// ([`apply_quiet_events`]).
     pub(crate) fn next_tick(&self, int_out: u16) -> Option<u64> {
+        let others = self.next_tick_but_rx(int_out);
+        match &self.rx_now {
+            Some(r) => Some(others.map_or(r.end_tick, |t| t.min(r.end_tick))),
+            None => others,
+        }
+    }
+
+    /// [`TelegramProcessor::next_tick`] without the end of the frame in progress.
+    #[inline]
+    pub(crate) fn next_tick_but_rx(&self, int_out: u16) -> Option<u64> {
         let events = int_out;
         // The earliest of the candidates (`any`: there is one; a tick of u64::MAX counts).
         let mut best = u64::MAX;
@@ -384,9 +394,6 @@ impl TelegramProcessor {
             && events & INT_TEND != 0
         {
             consider(t);
-        }
-        if let Some(r) = &self.rx_now {
-            consider(r.end_tick);
         }
         if let Some((t, _)) = self.pending_block {
             consider(t);
@@ -557,8 +564,12 @@ pub(crate) fn on_cycle_start(chip: &mut Chip, tick: u64) {
     chip.tp.pending_block = Some((ref_tick, block));
 }
 
-/// Processes one event due at `tick` (the earliest the processor has).
-pub(crate) fn step(chip: &mut Chip, tick: u64) {
+/// Processes one event due at `tick` (the earliest the processor has); returns the tick of
+/// the last event processed: `tick`, or the end of a received telegram started here whose
+/// end the loop would have taken next at once (`chain`, `receive::frame_start`).
+// Inlined into `Chip::advance_to`, its one call (release).
+#[inline(always)]
+pub(crate) fn step(chip: &mut Chip, tick: u64, chain: &Chain) -> (u64, Option<Option<u64>>) {
     // What happened before this tick and was no event of its own goes first, as at its
     // own tick (those at this tick come in the order below).
     if let Some(before) = tick.checked_sub(1) {
@@ -566,16 +577,47 @@ pub(crate) fn step(chip: &mut Chip, tick: u64) {
     }
     if chip.tp.tx_end == Some(tick) {
         transmit::end(chip, tick);
-        return;
+        return (tick, None);
     }
-    if chip.tp.rx_now.as_ref().is_some_and(|r| r.end_tick == tick) {
-        receive::frame_end(chip, tick);
-        return;
-    }
-    if first_frame_tick(chip) == Some(tick) {
-        receive::frame_start(chip, tick);
-        return;
-    }
+    let (end, now, others) = if chip.tp.rx_now.as_ref().is_some_and(|r| r.end_tick == tick) {
+        let Some(now) = chip.tp.rx_now.take() else {
+            return (tick, None);
+        };
+        (tick, now, None)
+    } else if first_frame_tick(chip) == Some(tick) {
+        // A telegram whose end is the next event is ended here: the step at its end takes
+        // the quiet events before it first, as above (debug builds compare with the two
+        // steps, `Chip::advance_to`).
+        let Some((now, others)) = receive::frame_start(chip, tick, chain) else {
+            return (tick, None);
+        };
+        let end = now.end_tick;
+        if let Some(before) = end.checked_sub(1) {
+            let _ = apply_quiet_events(chip, before);
+        }
+        (end, now, Some(others))
+    } else {
+        step_rest(chip, tick);
+        return (tick, None);
+    };
+    receive::frame_end(chip, end, now);
+    // After a joined frame the processor's next tick is the earlier of its other events
+    // (`rx_end_is_next`: left as they were) and the next queued frame's start.
+    let next = others.map(|o| match (o, first_frame_tick(chip)) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    });
+    debug_assert!(
+        next.is_none_or(|n| n == next_tick(chip)),
+        "joined frame's next tick"
+    );
+    (end, next)
+}
+
+/// [`step`]'s events after the receiver's: a block's start, the MST deadline, the current
+/// header's.
+#[inline]
+fn step_rest(chip: &mut Chip, tick: u64) {
     if let Some((t, block)) = chip.tp.pending_block
         && t == tick
     {
@@ -671,6 +713,34 @@ pub(crate) fn apply_quiet_events(chip: &mut Chip, tick: u64) -> bool {
         applied = true;
     }
     applied
+}
+
+/// Whether the end of a received telegram at tick `e`, started at this step, is the
+/// processor's next event (what [`next_tick`] would find once the frame is in progress,
+/// with the frame's end first among the events of its tick, as [`step`] takes them): no
+/// other event of the processor comes before `e`, and no telegram's end is at `e` (`step`
+/// takes it first); the end marker is not current (its quiet event reads the frame in
+/// progress, `busy_until`). Then returns the processor's other next tick
+/// ([`TelegramProcessor::next_tick_but_rx`]), which the frame's end leaves as it is: the
+/// quiet events before it apply a telegram's end that is no event (not counted) or open a
+/// receive window that is none (its close counts either way), and the end itself changes
+/// no header, block or MST state.
+#[inline]
+pub(crate) fn rx_end_is_next(chip: &Chip, e: u64) -> Option<Option<u64>> {
+    let tp = &chip.tp;
+    if tp.tx_end == Some(e)
+        || matches!(
+            tp.block,
+            Some(Block {
+                cur: Some(Cur::End { .. }),
+                ..
+            })
+        )
+    {
+        return None;
+    }
+    let others = tp.next_tick_but_rx(chip.engine.s.int_out_lo);
+    others.is_none_or(|t| t >= e).then_some(others)
 }
 
 /// Whether an event [`apply_quiet_events`] applies may be pending (a transmit telegram

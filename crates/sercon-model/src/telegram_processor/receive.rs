@@ -9,7 +9,7 @@ use super::transmit::raise_sc;
 use super::walk::{self, Containers};
 use super::walk_memo;
 use super::{Cur, HeaderWord0, RxNow, RxRole, advance, prog_error, reg25, set_flmdtadr};
-use crate::chip::Chip;
+use crate::chip::{Chain, Chip};
 use crate::service_container::{self, ScMode};
 
 /// A receive header as the processor holds it from its reading at `load` to the end of its
@@ -106,11 +106,16 @@ pub(crate) fn is_mst(bytes: &[u8]) -> bool {
     bytes.len() == 2 && bytes.first() == Some(&255)
 }
 
-/// The first queued frame starts at `tick`.
-pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
-    let Some((_, frame)) = chip.tp.rx_queue.pop_front() else {
-        return;
-    };
+/// The first queued frame starts at `tick`. Returns the frame in progress when it is an
+/// accepted telegram whose end [`Chip::advance_to`]'s loop would take next at once
+/// (`chain`, `rx_end_is_next`): [`super::step`] then processes that end as its step would,
+/// without the frame being kept in `rx_now` in between.
+pub(super) fn frame_start(
+    chip: &mut Chip,
+    tick: u64,
+    chain: &Chain,
+) -> Option<(RxNow, Option<u64>)> {
+    let (_, frame) = chip.tp.rx_queue.pop_front()?;
     chip.tp.last_taken = Some(frame.start);
     // No frame starts while one is in progress: its start waits for that one's end
     // (`first_frame_tick`, `release_held_starts`).
@@ -138,17 +143,27 @@ pub(super) fn frame_start(chip: &mut Chip, tick: u64) {
         if !chip.tp.replacing.is_empty() {
             take_replacement(chip, start, tick);
         }
-        return;
+        return None;
     }
-    chip.tp.rx_now = Some(RxNow {
+    let now = RxNow {
         bytes: frame.bytes,
         fcs_ok: frame.fcs_ok,
         end_tick,
         role,
-    });
+    };
     if !chip.tp.replacing.is_empty() {
+        chip.tp.rx_now = Some(now);
         take_replacement(chip, start, tick);
+        return None;
     }
+    if matches!(role, RxRole::Telegram { .. })
+        && let Some(others) = super::rx_end_is_next(chip, end_tick)
+        && chain.allows(chip, end_tick)
+    {
+        return Some((now, others));
+    }
+    chip.tp.rx_now = Some(now);
+    None
 }
 
 /// A frame taken back and replaced (`take_back_frame`) has just started at `tick`: it
@@ -228,16 +243,13 @@ fn count_error(chip: &mut Chip, at: u16) {
     super::output_bound::ram_written(chip, a, 1);
 }
 
-/// The frame being received ended at `tick`.
+/// The frame being received, `now`, ended at `tick`.
 // Inlined into `Chip::advance_to` (its one call, `step`): measured both ways again with
 // the receive header held as `RxHead` (session 26, rxchain: kept out of line, a ring-8
 // cycle took ≈ 500 instructions more; session 18 had found the opposite with the header
 // decoded).
 #[inline]
-pub(super) fn frame_end(chip: &mut Chip, tick: u64) {
-    let Some(now) = chip.tp.rx_now.take() else {
-        return;
-    };
+pub(super) fn frame_end(chip: &mut Chip, tick: u64, now: RxNow) {
     match now.role {
         RxRole::Ignored => {}
         RxRole::Mst => crate::mst::mst_end(chip, tick, now.fcs_ok, &now.bytes),
