@@ -145,24 +145,28 @@ pub(super) fn frame_start(
         }
         return None;
     }
-    let now = RxNow {
+    if matches!(role, RxRole::Telegram { .. })
+        && chip.tp.replacing.is_empty()
+        && let Some(others) = super::rx_end_is_next(chip, end_tick)
+        && chain.allows(chip, end_tick)
+    {
+        let now = RxNow {
+            bytes: frame.bytes,
+            fcs_ok: frame.fcs_ok,
+            end_tick,
+            role,
+        };
+        return Some((now, others));
+    }
+    chip.tp.rx_now = Some(RxNow {
         bytes: frame.bytes,
         fcs_ok: frame.fcs_ok,
         end_tick,
         role,
-    };
+    });
     if !chip.tp.replacing.is_empty() {
-        chip.tp.rx_now = Some(now);
         take_replacement(chip, start, tick);
-        return None;
     }
-    if matches!(role, RxRole::Telegram { .. })
-        && let Some(others) = super::rx_end_is_next(chip, end_tick)
-        && chain.allows(chip, end_tick)
-    {
-        return Some((now, others));
-    }
-    chip.tp.rx_now = Some(now);
     None
 }
 
