@@ -92,9 +92,6 @@ pub(crate) struct Chain {
     pub(crate) flags: u64,
     /// The FIFO state when the loop's turn began (`DmaFifos::snapshot`).
     pub(crate) fifo: Option<crate::telegram_processor::FifoState>,
-    /// The quiet cycle end still to apply (`u64::MAX` for none): a step at or after it
-    /// applies it first.
-    pub(crate) quiet: u64,
 }
 
 impl Chain {
@@ -105,15 +102,17 @@ impl Chain {
         engine_tick: None,
         flags: 0,
         fifo: None,
-        quiet: 0,
     };
 
     /// Whether the loop would take the processor's event at tick `e`, found next right
     /// after the step it handed over, at once ([`Chip::chains_to`]) with no quiet cycle
-    /// end applied before it.
+    /// end applied before it: the loop then takes the timing control's memo's quiet end
+    /// (which a short cycle sync may have moved, `Engine::sync_cycle`) and applies it first
+    /// when `e` is at or after it.
     #[inline]
     pub(crate) fn allows(&self, chip: &Chip, e: u64) -> bool {
-        e < self.quiet && chip.chains_to(e, self.limit, self.engine_tick, self.flags, self.fifo)
+        chip.chains_to(e, self.limit, self.engine_tick, self.flags, self.fifo)
+            .is_some_and(|quiet| e < quiet)
     }
 }
 
@@ -274,7 +273,6 @@ impl Chip {
                                 engine_tick,
                                 flags,
                                 fifo,
-                                quiet,
                             };
                             #[cfg(debug_assertions)]
                             let general = (crate::telegram_processor::first_frame_tick(self)
