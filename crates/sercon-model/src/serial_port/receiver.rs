@@ -68,13 +68,38 @@ pub(crate) struct Receiver {
     /// (then there was none).
     implied: Option<ImpliedFiller>,
     /// The receiver's own part of [`Receiver::is_filler_to_filler`], kept as the state
-    /// changes ([`Receiver::compute_ready`]): where the implied filler running starts and the
-    /// bit time of the segment it follows, when the receiver is in that state.
-    ready: Option<(Instant, Duration)>,
+    /// changes ([`Receiver::compute_ready`]): where the implied filler running starts, the
+    /// bit time of the segment it follows and the level its bits leave the line at, when the
+    /// receiver is in that state.
+    ready: Option<Ready>,
     /// The starts of frames reported earlier that the last input took back
     /// ([`Receiver::resume_cut`]; [`Receiver::take_retracted`]), each with whether a frame
     /// of that start that replaces it has been reported since.
     retracted: Vec<(Instant, bool)>,
+}
+
+/// The implied filler of the last telegram runs ([`Receiver::compute_ready`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Ready {
+    /// Where the filler starts (the end of the bits).
+    at: Instant,
+    /// The bit time of the telegram, and of its filler.
+    bit_time: Duration,
+    /// The level the telegram's last bit leaves the line at
+    /// ([`LineSegment::level_after_bits`]).
+    level: bool,
+}
+
+impl Ready {
+    /// The line's level at `t` after the filler's start: the level at its start, toggled by
+    /// every bit time of the filler begun (the filler's edges, [`LineSegment::level_at`];
+    /// sercos-facts: filler between telegrams, 410B §4.1 2H.13 "Filler signal").
+    #[inline(always)]
+    fn level_at(&self, t: Instant) -> bool {
+        let elapsed = t.saturating_duration_since(self.at).as_picos();
+        let begun = elapsed.div_ceil(self.bit_time.as_picos().max(1));
+        self.level ^ (begun & 1 == 1)
+    }
 }
 
 /// The receiver as it was before it took an explicit filler segment starting at `at`
@@ -174,14 +199,27 @@ impl Receiver {
 
     /// Whether `seg` is a telegram whose `level_before` is not the level
     /// [`Receiver::level_at`] gives at its start: taken to the level the line is at, it is
-    /// inverted (NRZI decodes it the same, 410B §4.1 1H.12 RXDNRZ = 0). The level found is
-    /// remembered for taking the segment.
+    /// inverted (NRZI decodes it the same, 410B §4.1 1H.12 RXDNRZ = 0). While the last
+    /// telegram's implied filler runs from before `seg` the level is found from the filler's
+    /// start ([`Receiver::ready`]); else it is the one [`Receiver::level_at`] finds, and
+    /// remembers for taking the segment.
     #[inline(always)]
     pub(crate) fn off_line_level(&self, seg: &LineSegment) -> bool {
-        matches!(seg.signal, LineSignal::Bits(_))
-            && self
-                .level_at(seg.start)
-                .is_some_and(|level| level != seg.level_before)
+        if !matches!(seg.signal, LineSignal::Bits(_)) {
+            return false;
+        }
+        // The usual case (an intact ring): the last telegram's implied filler runs, from
+        // before `seg`; its level there is found from the filler's start (`Ready::level_at`,
+        // the level the last segment gives, debug-checked) without the segment's bits.
+        if let Some(r) = self.ready
+            && r.at < seg.start
+        {
+            let level = r.level_at(seg.start);
+            debug_assert_eq!(Some(level), self.level_at(seg.start), "the filler's level");
+            return level != seg.level_before;
+        }
+        self.level_at(seg.start)
+            .is_some_and(|level| level != seg.level_before)
     }
 
     /// The FIBBR deadline has passed without an edge: FIBBR is now set.
@@ -195,7 +233,7 @@ impl Receiver {
     /// [`Receiver::ready`] from the state: the implied filler of the last segment runs (an
     /// undistorted telegram that carried it at a bit time above 0, no decoder running before
     /// or after it), with no FIBBR deadline nor rise pending.
-    fn compute_ready(&self) -> Option<(Instant, Duration)> {
+    fn compute_ready(&self) -> Option<Ready> {
         let last = self.last.as_ref()?;
         let implied = self.implied.as_ref()?;
         (self.open_filler
@@ -205,7 +243,11 @@ impl Receiver {
             && last.then_filler
             && !last.distorted
             && last.bit_time.as_picos() > 0)
-            .then_some((implied.at, last.bit_time))
+            .then(|| Ready {
+                at: implied.at,
+                bit_time: last.bit_time,
+                level: last.level_at(implied.at),
+            })
     }
 
     /// An edge of the receive signal at `t`.
@@ -338,7 +380,7 @@ impl Receiver {
         // The receiver's part (`compute_ready`): the previous telegram's implied filler runs,
         // from before `seg`, at `seg`'s bit rate (not 0).
         self.ready
-            .is_some_and(|(at, last_bt)| at < seg.start && last_bt == bt)
+            .is_some_and(|r| r.at < seg.start && r.bit_time == bt)
             && seg.then_filler
             && !seg.distorted
             && seg.hint.is_some()
@@ -367,6 +409,8 @@ impl Receiver {
         if let Some(hint) = &seg.hint {
             deliver_hinted(&seg, hint, end, events, frames);
         }
+        // A telegram (`is_filler_to_filler`): its bits' last level is there.
+        let level = seg.level_after_bits().unwrap_or(seg.level_before);
         self.last = Some(seg);
         self.level_memo.set(None);
         // The bits' last edge set the deadline the filler's first edge then clears.
@@ -389,7 +433,11 @@ impl Receiver {
             });
         }
         // The state `compute_ready` finds: this telegram's implied filler runs.
-        self.ready = Some((end, bt));
+        self.ready = Some(Ready {
+            at: end,
+            bit_time: bt,
+            level,
+        });
     }
 
     /// The receiver's and `events`' state after the general path took `seg` (a check of
@@ -1136,6 +1184,61 @@ mod tests {
             let taken = compare(&ring).unwrap_or_else(|e| panic!("{e}"));
             assert!(taken >= 10, "taken {taken} times");
         }
+    }
+
+    /// The level of a running implied filler found from its start (`Ready::level_at`, used
+    /// by [`Receiver::off_line_level`] when the segment starts after the filler's start)
+    /// is the one the last segment gives, at every instant around the filler's start and
+    /// the bits before it; the telegrams taken by the general path and by the
+    /// filler-to-filler path.
+    #[test]
+    fn the_running_fillers_level_is_the_last_segments() {
+        let cfg = cfg(1);
+        let timeout = BT.saturating_mul(FIBBR_BIT_TIMES);
+        let (mut short, mut ready, mut checked) = (0, 0, 0);
+        for len in [1u8, 2, 3, 7, 16, 31] {
+            for level_before in [false, true] {
+                let mut rx = Receiver::new(Instant::ZERO, timeout);
+                let mut events = LineEvents::default();
+                let mut start = Instant::from_picos(1_000_000);
+                for _ in 0..4 {
+                    let mut seg = segment(0, start, len, level_before);
+                    // Taken from the line's level (as `Chip::line_input_at_level` does).
+                    if rx
+                        .last
+                        .as_ref()
+                        .is_some_and(|l| l.level_at(start) != level_before)
+                    {
+                        seg.invert();
+                    }
+                    let end = seg.end().unwrap_or(start);
+                    let mut sink = |_f: HeardFrame| {};
+                    let sinks = Sinks {
+                        events: &mut events,
+                        frames: &mut sink,
+                    };
+                    short += u32::from(rx.input::<false, _>(seg, &cfg, sinks));
+                    ready += u32::from(rx.ready.is_some());
+                    // From half the bits back to 12 bit times past the bits, by thirds of a
+                    // bit time.
+                    let from = end.as_picos() - u64::from(len) * BT.as_picos() / 2;
+                    for k in 0..(u64::from(len) * 3 / 2 + 36) {
+                        let t = Instant::from_picos(from + k * BT.as_picos() / 3);
+                        let line = rx.last.as_ref().map(|l| l.level_at(t));
+                        for lb in [false, true] {
+                            let probe = segment(0, t, 4, lb);
+                            let expected = line.is_some_and(|l| l != lb);
+                            assert_eq!(rx.off_line_level(&probe), expected, "at {t:?}");
+                            checked += 1;
+                        }
+                    }
+                    start = end.saturating_add(BT.saturating_mul(5 + u64::from(len % 2)));
+                }
+            }
+        }
+        assert!(short >= 24, "filler to filler {short} times");
+        assert!(ready >= 24, "a filler running {ready} times");
+        assert!(checked > 1000);
     }
 
     /// An intact ring's telegrams, every other one from the other level (as a fast path that

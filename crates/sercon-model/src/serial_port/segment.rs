@@ -254,6 +254,23 @@ impl LineSegment {
         }
     }
 
+    /// The light level a [`LineSignal::Bits`] segment leaves the line at after its last
+    /// bit ([`LineSegment::level_at`] its [`LineSegment::end`]): the last bit's, or
+    /// `level_before` without bits; `None` for the other signals.
+    #[inline(always)]
+    pub(crate) fn level_after_bits(&self) -> Option<bool> {
+        match &self.signal {
+            LineSignal::Bits(b) => Some(match b.len().checked_sub(1) {
+                Some(i) => usize::try_from(i)
+                    .ok()
+                    .and_then(|i| b.bits().get(i))
+                    .unwrap_or(self.level_before),
+                None => self.level_before,
+            }),
+            _ => None,
+        }
+    }
+
     /// The part of this segment from instant `t` on (`t` ≥ `start`): a steady segment starts
     /// at `t`; a bits segment keeps the bit times that begin at or after `t` (none: `None`).
     /// The hint is dropped unless nothing was cut.
