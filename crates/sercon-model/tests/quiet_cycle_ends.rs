@@ -332,6 +332,26 @@ fn same_rings_as(
     Ok(())
 }
 
+/// Two rings run to each of the instants `at` (µs): their slaves' pin events and host views
+/// the same at each, and the same telegrams in the end.
+fn same_slaves_at(ours: &mut Ring, theirs: &mut Ring, at: impl Iterator<Item = u64>) {
+    for t in at {
+        ours.run_to(us(t));
+        theirs.run_to(us(t));
+        assert_eq!(
+            drain(&mut ours.slave),
+            drain(&mut theirs.slave),
+            "by {t} µs"
+        );
+        assert_eq!(
+            host_view(&mut ours.slave),
+            host_view(&mut theirs.slave),
+            "by {t} µs"
+        );
+    }
+    assert_eq!(ours.log, theirs.log);
+}
+
 /// One chip's timing control alone (no MST: MSTEN = 0, ENTMT as `t` says, NCYC `ncyc`),
 /// started by CYCSTART after TCYCSTART `tcycstart`, advanced to instants `ps` picoseconds
 /// apart (between MCLK edges too), with the host acting at each.
@@ -588,21 +608,7 @@ fn a_start_pending_at_a_slaves_first_mst_is_dropped_as_the_general_way_drops_it(
             short: false,
         }),
     );
-    for t in (160..=1500).step_by(10) {
-        ours.run_to(us(t));
-        theirs.run_to(us(t));
-        assert_eq!(
-            drain(&mut ours.slave),
-            drain(&mut theirs.slave),
-            "by {t} µs"
-        );
-        assert_eq!(
-            host_view(&mut ours.slave),
-            host_view(&mut theirs.slave),
-            "by {t} µs"
-        );
-    }
-    assert_eq!(ours.log, theirs.log);
+    same_slaves_at(&mut ours, &mut theirs, (160..=1500).step_by(10));
 }
 
 /// A slave that sends nothing (its AT header off, 410B §4.2.1 EN = 0; its repeater off) and
@@ -644,20 +650,6 @@ fn a_chain_from_one_mst_past_the_cycle_end_it_synchronised() {
                 short: false,
             }),
         );
-        for t in (1..=16).map(|i| i * 250) {
-            ours.run_to(us(t));
-            theirs.run_to(us(t));
-            assert_eq!(
-                drain(&mut ours.slave),
-                drain(&mut theirs.slave),
-                "by {t} µs"
-            );
-            assert_eq!(
-                host_view(&mut ours.slave),
-                host_view(&mut theirs.slave),
-                "by {t} µs"
-            );
-        }
-        assert_eq!(ours.log, theirs.log);
+        same_slaves_at(&mut ours, &mut theirs, (1..=16).map(|i| i * 250));
     }
 }

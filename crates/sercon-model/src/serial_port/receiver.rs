@@ -1015,6 +1015,15 @@ mod tests {
     /// line's, and the receiver's own bit time then (`cfg`).
     type Step = (u8, i64, u8, bool, u8);
 
+    /// The instant `gap` bit times after `end` (before it when negative), at least 1 ps.
+    fn start_after(end: Instant, gap: i64) -> Instant {
+        Instant::from_picos(
+            end.as_picos()
+                .saturating_add_signed(gap.saturating_mul(BT.as_picos() as i64))
+                .max(1),
+        )
+    }
+
     fn segment(kind: u8, start: Instant, len: u8, level_before: bool) -> LineSegment {
         let mut bits = sercos_wire::line::BitVec::new();
         for i in 0..u64::from(len).max(1) {
@@ -1059,11 +1068,7 @@ mod tests {
         let mut taken = 0;
         for &(kind, gap, len, keep_level, own) in steps {
             let cfg = cfg(own);
-            let start = end
-                .as_picos()
-                .saturating_add_signed(gap.saturating_mul(BT.as_picos() as i64))
-                .max(1);
-            let start = Instant::from_picos(start);
+            let start = start_after(end, gap);
             let level = fast.level_at(start).unwrap_or(false);
             let seg = segment(kind, start, len, level == keep_level);
             taken += u32::from(fast.is_filler_to_filler::<false>(&seg, &cfg, &ev_fast));
@@ -1101,11 +1106,7 @@ mod tests {
         let (mut taken, mut inverted) = (0, 0);
         for &(kind, gap, len, keep_level, own) in steps {
             let cfg = cfg(own);
-            let start = end
-                .as_picos()
-                .saturating_add_signed(gap.saturating_mul(BT.as_picos() as i64))
-                .max(1);
-            let start = Instant::from_picos(start);
+            let start = start_after(end, gap);
             let level = general.level_at(start).unwrap_or(false);
             let seg = segment(kind, start, len, level == keep_level);
             end = seg.end().unwrap_or(start);
