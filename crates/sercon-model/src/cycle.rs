@@ -336,21 +336,11 @@ impl Engine {
                 self.outputs.divclk_countdown - 1
             };
         }
-        // 410B §4.1 4H.2/3: INT_COMBLK0/1 "start transmission block 0/1".
-        self.flags.lo |= if block == 0 { INT_COMBLK0 } else { INT_COMBLK1 };
         self.outputs.divclk_until = None;
         let start = self.plan.start;
-        let run = Run {
-            ref_tick: at,
-            ref_e: 0,
-            len,
-            block,
-            tcntst,
-            cursor: start.count,
-            pulse_cycle,
-        };
-        self.cycle.run = Some(run);
-        self.cycle.last_block = block;
+        // The run is read again only by the debug comparison below.
+        #[cfg_attr(not(debug_assertions), allow(unused_variables))]
+        let run = self.begin_run(at, len, block, tcntst, pulse_cycle);
         // 816 §2.6.5: in master mode the MST start triggers the watchdog (WDOG_MSTEN).
         if self.s.sends_mst() && self.s.wdog_msten {
             self.wd.trigger(at, self.s.twdog, self.pre.period());
@@ -376,6 +366,27 @@ impl Engine {
         }
         #[cfg(debug_assertions)]
         assert_eq!(&general, self, "a cycle start's entries in one go");
+    }
+
+    /// Begins the cycle of block `block` (0 or 1, `len` µs long, TCNT from `tcntst`, the DIV_CLK
+    /// pulse in it when `pulse_cycle`) at tick `at`, with the plan's cursor after the entries
+    /// at offset 0 (the caller applies those, `CyclePlan::start`), and raises INT_COMBLK0/1
+    /// (410B §4.1 4H.2/3 "start transmission block 0/1"). Returns the run.
+    #[inline]
+    fn begin_run(&mut self, at: u64, len: u64, block: u8, tcntst: u16, pulse_cycle: bool) -> Run {
+        self.flags.lo |= if block == 0 { INT_COMBLK0 } else { INT_COMBLK1 };
+        let run = Run {
+            ref_tick: at,
+            ref_e: 0,
+            len,
+            block,
+            tcntst,
+            cursor: self.plan.start.count,
+            pulse_cycle,
+        };
+        self.cycle.run = Some(run);
+        self.cycle.last_block = block;
+        run
     }
 
     /// Applies the plan's entries at offset 0 one by one to the cycle `run` just started
@@ -499,23 +510,12 @@ impl Engine {
             g
         };
         let start = self.plan.start;
-        let run = Run {
-            ref_tick: at,
-            ref_e: 0,
-            len,
-            block,
-            tcntst,
-            cursor: start.count,
-            pulse_cycle: false,
-        };
-        self.cycle.run = Some(run);
-        self.cycle.last_block = block;
+        let run = self.begin_run(at, len, block, tcntst, false);
         // The slave runs this one cycle unless the next MST comes first (410B §4.2.1 TRT).
         self.cycle.continuous = false;
         self.cycle.cycles_left = 1;
-        // 410B §4.1 4H.2/3 INT_COMBLK0/1; the offset-0 entries as `start_cycle_block`
-        // applies them (`CyclePlan::start`; DIVCLKMODE = 0 or NDIVCLK = 0 here).
-        self.flags.lo |= if block == 0 { INT_COMBLK0 } else { INT_COMBLK1 };
+        // The offset-0 entries as `start_cycle_block` applies them (`CyclePlan::start`;
+        // DIVCLKMODE = 0 or NDIVCLK = 0 here).
         self.flags.hi |= start.set_hi;
         let pulse = start.divclk_pulse && !self.s.divclkmode;
         if pulse {

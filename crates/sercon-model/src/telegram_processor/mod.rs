@@ -566,7 +566,10 @@ pub(crate) fn on_cycle_start(chip: &mut Chip, tick: u64) {
 
 /// Processes one event due at `tick` (the earliest the processor has); returns the tick of
 /// the last event processed: `tick`, or the end of a received telegram started here whose
-/// end the loop would have taken next at once (`chain`, `receive::frame_start`).
+/// end the loop would have taken next at once (`chain`, `receive::frame_start`); and, after
+/// such a joined end, the processor's next tick as [`next_tick`] would find it (`Some`,
+/// found from the other events' tick and the receive queue), `None` when the caller must
+/// find it.
 // Inlined into `Chip::advance_to`, its one call (release).
 #[inline(always)]
 pub(crate) fn step(chip: &mut Chip, tick: u64, chain: &Chain) -> (u64, Option<Option<u64>>) {
