@@ -522,6 +522,7 @@ impl Chip {
         self.tp_next = None;
         self.engine.next_memo = None;
         self.tp.tx_ahead.set(None);
+        self.tp.block_ahead.set(None);
         self.out_bound.set(None);
     }
 
@@ -556,10 +557,11 @@ impl Chip {
     }
 
     /// After quiet events were applied: the processor's next tick stands (they were not in
-    /// it), the output bound's walks may not (the block may have ended).
+    /// it), the output bound may not (the block may have ended). The walk ahead stands: a
+    /// block's end leaves the list as it was (the end marker's TEND is a status word), and a
+    /// later block finds its headers where this one did (`output_bound::TxAhead`).
     fn quiet_events_applied(&mut self) {
         self.out_bound.set(None);
-        self.tp.tx_ahead.set(None);
     }
 
     /// The earliest instant after which the chip may change on its own (without a line
@@ -1027,6 +1029,7 @@ impl SerconBus for Chip {
         // A header ahead may have changed: the output bound's remembered walks go (the
         // processor's next tick does not read the RAM; found by fuzz target bus_sequence).
         self.tp.tx_ahead.set(None);
+        self.tp.block_ahead.set(None);
         self.out_bound.set(None);
     }
 }

@@ -876,3 +876,116 @@ fn a_current_transmit_header_with_en_0_bounds_as_the_walk_does() {
         .expect("plain advances");
     arbitrary_run_with_writes(chip, frames, vec![(223, 6, 0, 396)], true).expect("kept bounds");
 }
+
+/// A master whose list is COMPT0 → MDT (TRT 2, EN = `mdt_en`) → AT 1 (TRT 20, TCHK: missing
+/// when its window closes, nothing is sent to it) → a transmit header (TRT 60, EN = 1) → end
+/// marker, in a 125 µs cycle.
+fn master_with_headers_sent_once(mdt_en: TxEnable) -> Chip {
+    let v = Variant::Sercon816;
+    let mut m = Chip::new(ChipConfig::sercon816());
+    m.write(Register::MclkDiv, 15);
+    m.write(Register::Tscyc0, 250);
+    let c1 = m.read(Register::Ctrl1);
+    m.write(Register::Ctrl1, c1 & !(1 << 3));
+    let mdt = TxHeader {
+        adr: 255,
+        en: mdt_en,
+        trt: 2,
+        tlen: 1,
+        pt: 30,
+        ..TxHeader::default()
+    };
+    m.write_ram(0, 16);
+    m.write_ram_words(16, &mdt.to_words(v));
+    m.write_ram_words(20, &[control(1), 0x1234]);
+    let at1 = RxHeader {
+        adr: 1,
+        achk: true,
+        tchk: true,
+        trt: 20,
+        tlen: 1,
+        pt: 50,
+        ..RxHeader::default()
+    };
+    m.write_ram_words(30, &at1.to_words(v));
+    m.write_ram_words(35, &[control(1), 0, 0]);
+    let once = TxHeader {
+        adr: 3,
+        en: TxEnable::Once,
+        trt: 60,
+        tlen: 1,
+        pt: 70,
+        ..TxHeader::default()
+    };
+    m.write_ram_words(50, &once.to_words(v));
+    m.write_ram_words(54, &[control(1), 0x5678]);
+    m.write_ram_words(70, &EndMarker::default().to_words());
+    m.write(Register::Phas, 0x0404);
+    m.write(Register::Ctrl3, 1 << 8);
+    m.write(Register::Ctrl0C, 0b11 | (1 << 10));
+    m
+}
+
+/// Runs [`master_with_headers_sent_once`] µs by µs for 370 µs (three cycles), every segment
+/// checked against the promise asked before its advance; returns the starts of its own
+/// telegrams and the promise asked at the first µs 10 µs or more into each cycle (its first
+/// telegram, the MST, starts it).
+fn sent_once_run(mdt_en: TxEnable) -> (Vec<Instant>, Vec<Option<Instant>>) {
+    let cycle = Duration::from_micros(125);
+    let mut m = master_with_headers_sent_once(mdt_en);
+    let mut buf = Vec::new();
+    let mut own = Vec::new();
+    let mut ask_at = None;
+    let mut asked = Vec::new();
+    for t in 1..=370u64 {
+        let now = Instant::ZERO + Duration::from_micros(t);
+        let p = promise(&m);
+        if let Some(a) = ask_at
+            && now >= a
+        {
+            asked.push(p);
+            ask_at = Some(a + cycle);
+        }
+        m.advance_to(now);
+        m.take_line_output(&mut buf);
+        for seg in buf.drain(..) {
+            assert!(
+                p.is_some_and(|p| seg.start >= p),
+                "a segment at {:?} before the promise {p:?}",
+                seg.start
+            );
+            if let LineSignal::Bits(_) = seg.signal {
+                ask_at.get_or_insert(seg.start + Duration::from_micros(10));
+                own.push(seg.start);
+            }
+        }
+    }
+    (own, asked)
+}
+
+// 410B §4.2.1 EN = 1 ("the circuit sets EN to 0 after the transmit telegram has been
+// started"), TRT; §4.2 COMPT0: the walks ahead of a receive header and from COMPT are kept
+// from one block to the next under the layout proof (`output_bound::TxAhead`, `BlockAhead`),
+// but a header sent once is off in the next block: the walks that found it go with that
+// write. In the first cycle the master sends its MST, the MDT and the header after AT 1; in
+// the next two its MST (and the MDT when it is on), and 10 µs into them, AT 1 current, it
+// promises nothing before the next cycle's MST (debug builds compare every kept walk with a
+// fresh one).
+#[test]
+fn a_header_sent_once_is_not_promised_again_by_a_kept_walk() {
+    for mdt_en in [TxEnable::Continuous, TxEnable::Once] {
+        let (own, asked) = sent_once_run(mdt_en);
+        let per_cycle = if mdt_en == TxEnable::Once { 1 } else { 2 };
+        assert_eq!(own.len(), 3 + 2 * per_cycle, "{mdt_en:?}: {own:?}");
+        let cycle = Duration::from_micros(125);
+        let first = own[0];
+        assert_eq!(asked.len(), 3, "{asked:?}");
+        for (k, p) in asked.iter().enumerate().skip(1) {
+            let next_mst = first + cycle.saturating_mul(k as u64 + 1);
+            assert!(
+                p.is_some_and(|p| p >= next_mst),
+                "{mdt_en:?}, cycle {k}: promised {p:?}, next MST at {next_mst:?}"
+            );
+        }
+    }
+}

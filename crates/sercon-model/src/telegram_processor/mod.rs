@@ -313,6 +313,8 @@ pub(crate) struct TelegramProcessor {
     /// The next transmit header ahead of the current receive header, remembered
     /// (`output_bound`).
     pub(crate) tx_ahead: std::cell::Cell<Option<output_bound::TxAhead>>,
+    /// The first transmit header of a block's list, remembered (`output_bound`).
+    pub(crate) block_ahead: std::cell::Cell<Option<output_bound::BlockAhead>>,
     /// The controller wrote RAM words a remembered walk ahead had read (`output_bound`:
     /// receive data or a service container laid over headers ahead) since this was last
     /// cleared (`Chip::advance_before_output`).
@@ -1023,7 +1025,7 @@ fn end_marker(chip: &mut Chip, tick: u64, at: u16) {
         u32::from(at) + 1,
         u16::try_from(tend).unwrap_or(u16::MAX),
     );
-    output_bound::ram_written(chip, u32::from(at) + 1, 1);
+    output_bound::status_written(chip, u32::from(at) + 1, 1);
     // 410B §4.1 4H.4 INT_COMEND "end of transmission block"; 3H.6 COMACT falls.
     chip.engine.flags.lo |= INT_COMEND;
 }

@@ -90,6 +90,51 @@ fn next_block_bound(chip: &Chip, tick: u64, block: u8) -> Option<u64> {
         chip.tp.walk_held.set(true);
         return Some(tick);
     };
+    if let Some(m) = chip.tp.block_ahead.get()
+        && m.block == block
+        && same_proof(chip, m.epoch, block)
+        && !guard.within(m.lo, m.hi)
+    {
+        // Every header the walk read lies in `lo .. hi`: no write of `guard` hits one.
+        let found = m.trt.map(|trt| {
+            tick.saturating_add(u64::from(trt).saturating_mul(chip.engine.pre.period()))
+        });
+        #[cfg(debug_assertions)]
+        {
+            let walk_held = chip.tp.walk_held.get();
+            debug_assert_eq!(
+                Some(found),
+                walk_block(chip, tick, block, guard).map(|w| w.tick),
+                "remembered block walk"
+            );
+            chip.tp.walk_held.set(walk_held);
+        }
+        return found;
+    }
+    match walk_block(chip, tick, block, guard) {
+        Some(found) => {
+            let epoch = chip.layout_epoch.get();
+            if same_proof(chip, epoch, block) {
+                chip.tp.block_ahead.set(Some(BlockAhead {
+                    block,
+                    epoch,
+                    trt: found.trt,
+                    lo: found.lo,
+                    hi: found.hi,
+                }));
+            }
+            found.tick
+        }
+        None => {
+            chip.tp.walk_held.set(true);
+            Some(tick)
+        }
+    }
+}
+
+/// The walk of [`next_block_bound`] from block `block`'s COMPT, starting at `tick`; `None`
+/// when it reads a header `guard` writes (held).
+fn walk_block(chip: &Chip, tick: u64, block: u8, guard: Writes) -> Option<Walk> {
     let compt = walk::word(&chip.ram, u32::from(block & 1)).unwrap_or(0);
     let b = Block {
         block,
@@ -113,12 +158,24 @@ fn next_block_bound(chip: &Chip, tick: u64, block: u8) -> Option<u64> {
         }
         clear
     });
-    if clear {
-        found.tick
-    } else {
-        chip.tp.walk_held.set(true);
-        Some(tick)
-    }
+    clear.then_some(found)
+}
+
+/// What the walk of [`next_block_bound`] found, remembered while the layout proof it was
+/// made under stands (`epoch`, `Chip::layout_epoch`): the walk from COMPT reads the pointer
+/// word and the headers up to the first enabled transmit header (410B §4.2.1, §4.2
+/// COMPT0/1), all read by the proof; of what the processor writes only a transmit header's
+/// EN changes it ([`ram_written`] drops it when it lies in `lo .. hi`), and a host write
+/// drops it (`Chip::touched`, `Chip::write_ram`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct BlockAhead {
+    block: u8,
+    epoch: u64,
+    /// The first enabled transmit header's TRT (µs after the block's start).
+    trt: Option<u16>,
+    /// The RAM words the walk read: `lo .. hi`.
+    lo: u32,
+    hi: u32,
 }
 
 /// RAM words the processor may still write before a block starts at `tick` when the
@@ -128,6 +185,16 @@ fn next_block_bound(chip: &Chip, tick: u64, block: u8) -> Option<u64> {
 struct Writes {
     tend: Option<u32>,
     nmsterr: Option<u32>,
+}
+
+impl Writes {
+    /// Whether a word it writes lies in `lo .. hi`.
+    fn within(self, lo: u32, hi: u32) -> bool {
+        [self.tend, self.nmsterr]
+            .into_iter()
+            .flatten()
+            .any(|w| w >= lo && w < hi)
+    }
 }
 
 /// [`Writes`] before `tick`; `None` when the current block may still receive or send
@@ -162,7 +229,16 @@ fn writes_before(chip: &Chip, tick: u64) -> Option<Writes> {
 /// block until the header it found is loaded (the list is walked in order, so every receive
 /// header before it finds the same one). A host access drops it (`Chip::touched`), and so
 /// does a write of the controller itself to the words it read ([`ram_written`]: receive data
-/// or a service container laid over headers ahead, a programming error).
+/// or a service container laid over headers ahead, a programming error, or a transmit
+/// header's EN).
+///
+/// It also holds in a later block of the same number while the layout proof it was made
+/// under stands (`epoch`, `Chip::layout_epoch`): a block starts at its COMPT and loads its
+/// headers by PT (410B §4.2.1, §4.2 COMPT0/1), one step each, so with the pointer words,
+/// the headers' marker bits and PT unchanged (the proof read them, and only a host write,
+/// which gives a new proof, changes them) the header current after as many steps is the
+/// same, with the same headers reached before it; the walk ahead of it then reads the same
+/// words, and the TRT it found counts from the new block's start (`trt`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct TxAhead {
     ref_tick: u64,
@@ -172,8 +248,10 @@ pub(crate) struct TxAhead {
     /// `Block::steps` at which the found transmit header becomes current (`u32::MAX`: none
     /// ahead).
     until_steps: u32,
-    /// Its TRT tick.
-    tick: Option<u64>,
+    /// Its TRT (µs after the block's start).
+    trt: Option<u16>,
+    /// The layout proof the walk was made under (`Chip::layout_epoch`; `None`: none held).
+    epoch: Option<u64>,
     /// The RAM words the walk read: `lo .. hi`.
     lo: u32,
     hi: u32,
@@ -182,12 +260,19 @@ pub(crate) struct TxAhead {
 /// The controller wrote the RAM words `from .. from + len` (receive data, a header's VAL or
 /// NERR, TEND, NMSTERR): a remembered walk that read any of them is dropped.
 pub(crate) fn ram_written(chip: &Chip, from: u32, len: usize) {
-    if let Some(m) = chip.tp.tx_ahead.get() {
-        let end = from.saturating_add(u32::try_from(len).unwrap_or(u32::MAX));
-        if from < m.hi && end > m.lo {
-            chip.tp.tx_ahead.set(None);
-            chip.tp.walk_overwritten.set(true);
-        }
+    let end = from.saturating_add(u32::try_from(len).unwrap_or(u32::MAX));
+    if let Some(m) = chip.tp.tx_ahead.get()
+        && from < m.hi
+        && end > m.lo
+    {
+        chip.tp.tx_ahead.set(None);
+        chip.tp.walk_overwritten.set(true);
+    }
+    if let Some(m) = chip.tp.block_ahead.get()
+        && from < m.hi
+        && end > m.lo
+    {
+        chip.tp.block_ahead.set(None);
     }
     // A refused layout proof rests on the words it read; the processor's own writes over
     // them (receive data laid over a header, 410B §4.2.2: what refused it) may take the
@@ -195,6 +280,58 @@ pub(crate) fn ram_written(chip: &Chip, from: u32, len: usize) {
     // sees only header status words written over read words, which change no list).
     if let Some((false, _)) = chip.layout.get() {
         refusal_written(chip, from, len);
+    }
+}
+
+/// The controller stored receive data in the RAM words `from .. from + len` (410B §4.2.2).
+/// While the layout proof holds, those words lie on no word it read (`telegram_processor::
+/// layout`: no written word but a header's status words lies on a header, a control word or
+/// a pointer word), so on none a walk ahead reads: a remembered walk stands. Otherwise as
+/// [`ram_written`].
+#[inline]
+pub(crate) fn data_written(chip: &Chip, from: u32, len: usize) {
+    if !matches!(chip.layout.get(), Some((true, _))) {
+        ram_written(chip, from, len);
+        return;
+    }
+    debug_assert!(
+        !chip
+            .layout_read
+            .borrow()
+            .any(from, u32::try_from(len).unwrap_or(u32::MAX)),
+        "receive data stored over a word the layout proof read"
+    );
+}
+
+/// The controller wrote a header status word that no walk ahead reads for what it finds: a
+/// receive header's word 0 (VAL, RERR, ADR: 410B §4.2.1 "Modified by controller at beginning
+/// and end of receive telegrams"), its NERR (word 4), the end marker's TEND (410B §4.2.3).
+/// While the layout proof holds, the header the processor writes back is the RAM's
+/// (`Chip::layout_proof`: refused while one it holds is not), so the marker bits stay; the
+/// walks read a receive header's marker bits and PT and an end marker's marker bits only
+/// (`next_tx_in_list`): a remembered walk stands. Otherwise as [`ram_written`].
+pub(crate) fn status_written(chip: &Chip, from: u32, len: usize) {
+    if !matches!(chip.layout.get(), Some((true, _))) {
+        ram_written(chip, from, len);
+        return;
+    }
+    #[cfg(debug_assertions)]
+    if let Some(m) = chip.tp.tx_ahead.get()
+        && let Some(b) = &chip.tp.block
+        && let Some(Cur::Rx { hdr, .. }) = b.cur
+        && m.block == b.block
+        && m.from_steps <= b.steps
+        && b.steps < m.until_steps
+    {
+        // What the walk found is what a fresh walk finds after the write.
+        let fresh = next_tx_in_list(chip, b, hdr.pt);
+        debug_assert_eq!(
+            fresh
+                .tx
+                .map_or(u32::MAX, |i| b.steps.saturating_add(1).saturating_add(i)),
+            m.until_steps,
+            "a status write at {from} moved the walk ahead"
+        );
     }
 }
 
@@ -216,6 +353,7 @@ fn refusal_written(chip: &Chip, from: u32, len: usize) {
 /// [`ram_written`]).
 pub(crate) fn ram_rewritten(chip: &Chip) {
     chip.tp.tx_ahead.set(None);
+    chip.tp.block_ahead.set(None);
     chip.tp.walk_overwritten.set(true);
     if let Some((false, _)) = chip.layout.get() {
         chip.set_layout(None);
@@ -223,18 +361,39 @@ pub(crate) fn ram_rewritten(chip: &Chip) {
 }
 
 /// [`next_tx_in_list`] from the current receive header, remembered (a master walks its
-/// AT headers once per cycle, not once per AT).
+/// AT headers once, not once per AT and cycle: [`TxAhead`]).
 fn next_tx_memo(chip: &Chip, b: &Block, pt: u16) -> Option<u64> {
+    let period = chip.engine.pre.period();
     if let Some(m) = chip.tp.tx_ahead.get()
-        && m.ref_tick == b.ref_tick
         && m.block == b.block
         && m.from_steps <= b.steps
         && b.steps < m.until_steps
+        && (m.ref_tick == b.ref_tick || m.epoch.is_some_and(|e| same_proof(chip, e, b.block)))
     {
-        debug_assert_eq!(m.tick, next_tx_in_list(chip, b, pt).tick);
-        return m.tick;
+        let tick = m.trt.map(|trt| {
+            b.ref_tick
+                .saturating_add(u64::from(trt).saturating_mul(period))
+        });
+        #[cfg(debug_assertions)]
+        {
+            let fresh = next_tx_in_list(chip, b, pt);
+            debug_assert_eq!(tick, fresh.tick, "remembered walk ahead: its tick");
+            debug_assert_eq!(
+                fresh
+                    .tx
+                    .map_or(u32::MAX, |i| b.steps.saturating_add(1).saturating_add(i)),
+                m.until_steps,
+                "remembered walk ahead: its header"
+            );
+            debug_assert!(
+                fresh.lo >= m.lo && fresh.hi <= m.hi,
+                "remembered walk ahead: its words"
+            );
+        }
+        return tick;
     }
     let found = next_tx_in_list(chip, b, pt);
+    let epoch = chip.layout_epoch.get();
     chip.tp.tx_ahead.set(Some(TxAhead {
         ref_tick: b.ref_tick,
         block: b.block,
@@ -242,11 +401,20 @@ fn next_tx_memo(chip: &Chip, b: &Block, pt: u16) -> Option<u64> {
         until_steps: found
             .tx
             .map_or(u32::MAX, |i| b.steps.saturating_add(1).saturating_add(i)),
-        tick: found.tick,
+        trt: found.trt,
+        epoch: same_proof(chip, epoch, b.block).then_some(epoch),
         lo: found.lo,
         hi: found.hi,
     }));
     found.tick
+}
+
+/// Whether the layout proof numbered `epoch` (`Chip::layout_epoch`) still stands and holds
+/// for block `block`'s list.
+#[inline]
+fn same_proof(chip: &Chip, epoch: u64, block: u8) -> bool {
+    chip.layout_epoch.get() == epoch
+        && matches!(chip.layout.get(), Some((true, proved)) if proved & (1 << (block & 1)) != 0)
 }
 
 /// What [`next_tx_in_list`] found.
@@ -254,6 +422,8 @@ fn next_tx_memo(chip: &Chip, b: &Block, pt: u16) -> Option<u64> {
 struct Walk {
     /// The TRT tick of the transmit telegram found.
     tick: Option<u64>,
+    /// Its TRT.
+    trt: Option<u16>,
     /// How many headers before it.
     tx: Option<u32>,
     /// The RAM words read: `lo .. hi`.
@@ -282,6 +452,7 @@ fn next_tx_in_list_with(
     let steps = max_steps(chip).saturating_sub(b.steps);
     let mut walk = Walk {
         tick: None,
+        trt: None,
         tx: None,
         lo: u32::from(ptr),
         hi: u32::from(ptr),
@@ -319,6 +490,7 @@ fn next_tx_in_list_with(
                     b.ref_tick
                         .saturating_add(u64::from(h.trt).saturating_mul(period)),
                 );
+                walk.trt = Some(h.trt);
                 walk.tx = Some(i);
                 return walk;
             }

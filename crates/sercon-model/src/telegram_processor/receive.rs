@@ -236,7 +236,8 @@ fn accept(chip: &mut Chip, tick: u64, at_tick: u64, bytes: &[u8]) -> RxRole {
 fn write_word0(chip: &mut Chip, at: u16, h: RxHead) {
     let w0 = h.w0;
     walk::set_word(&mut chip.ram, u32::from(at), w0);
-    super::output_bound::ram_written(chip, u32::from(at), 1);
+    // VAL, RERR, ADR: the marker bits stay (a header status word).
+    super::output_bound::status_written(chip, u32::from(at), 1);
 }
 
 /// Increments NERR (receive header word 4), saturating (spec-notes "NERR").
@@ -244,7 +245,7 @@ fn count_error(chip: &mut Chip, at: u16) {
     let a = u32::from(at) + 4;
     let n = walk::word(&chip.ram, a).unwrap_or(0);
     walk::set_word(&mut chip.ram, a, n.saturating_add(1));
-    super::output_bound::ram_written(chip, a, 1);
+    super::output_bound::status_written(chip, a, 1);
 }
 
 /// The frame being received, `now`, ended at `tick`.
@@ -469,7 +470,7 @@ fn store_list(chip: &mut Chip, h: &RxHead, bytes: &[u8], list: &[walk::Container
                         }
                     }
                 }
-                super::output_bound::ram_written(chip, dst, len);
+                super::output_bound::data_written(chip, dst, len);
                 if c.control.svfl {
                     let mut record = std::mem::take(&mut chip.tp.record);
                     record.clear();
