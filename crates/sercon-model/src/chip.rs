@@ -674,13 +674,13 @@ impl Chip {
                 Some((next, _)) => next,
                 None => self.engine.next_tick(),
             };
-            let bound = tx.into_iter().chain(engine).min();
+            let bound = earliest_tick(tx, engine);
             debug_assert_eq!(bound, self.output_bound_tick(), "out_bound for any input");
             self.out_bound.set(Some(bound));
         }
         // 410B §4.1 0CH: the next cycle start sends the MST (the timing control's other
         // events in between only move pins).
-        let tick = tx.into_iter().chain(self.engine.next_cycle_start()).min();
+        let tick = earliest_tick(tx, self.engine.next_cycle_start());
         let own = tick.map_or(Instant::MAX, |k| self.clock.instant(k));
         // What it has queued, but for the filler its last telegram implies (it sends
         // nothing, `Chip::set_implied_filler`).
@@ -691,13 +691,20 @@ impl Chip {
     /// Whether the telegram processor's own writes leave its header lists as they are
     /// (`telegram_processor::layout`): found once, kept until a host write to a word the
     /// walks read.
+    #[inline]
     pub(crate) fn layout_proof(&self) -> bool {
-        let memo = self.layout.get();
-        if let Some((proof, 0b11)) = memo {
+        if let Some((proof, 0b11)) = self.layout.get() {
             // Both blocks' lists covered: whichever may run.
             debug_assert_eq!(proof, self.fresh_layout_proof(0b11), "kept layout proof");
             return proof;
         }
+        self.layout_proof_for_blocks()
+    }
+
+    /// [`Chip::layout_proof`] when the proof kept does not cover both blocks' lists.
+    #[inline(never)]
+    fn layout_proof_for_blocks(&self) -> bool {
+        let memo = self.layout.get();
         let blocks = crate::telegram_processor::possible_blocks(self);
         if let Some((proof, proved)) = memo
             && proved & blocks == blocks
@@ -1031,6 +1038,15 @@ impl SerconBus for Chip {
         self.tp.tx_ahead.set(None);
         self.tp.block_ahead.set(None);
         self.out_bound.set(None);
+    }
+}
+
+/// The earlier of two optional MCLK ticks.
+#[inline]
+fn earliest_tick(a: Option<u64>, b: Option<u64>) -> Option<u64> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
     }
 }
 

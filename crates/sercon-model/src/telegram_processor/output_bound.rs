@@ -85,6 +85,7 @@ fn mst_block_bound(chip: &Chip, end_tick: u64, fcs_ok: bool, bytes: &[u8]) -> Op
 /// block's start; the headers are walked in list order), when nothing the processor does
 /// before `tick` can change what that walk reads; `tick` itself otherwise (a held walk:
 /// [`TelegramProcessor::walk_held`](super::TelegramProcessor::walk_held)).
+#[inline]
 fn next_block_bound(chip: &Chip, tick: u64, block: u8) -> Option<u64> {
     let Some(guard) = writes_before(chip, tick) else {
         chip.tp.walk_held.set(true);
@@ -99,18 +100,19 @@ fn next_block_bound(chip: &Chip, tick: u64, block: u8) -> Option<u64> {
         let found = m.trt.map(|trt| {
             tick.saturating_add(u64::from(trt).saturating_mul(chip.engine.pre.period()))
         });
-        #[cfg(debug_assertions)]
-        {
-            let walk_held = chip.tp.walk_held.get();
-            debug_assert_eq!(
-                Some(found),
-                walk_block(chip, tick, block, guard).map(|w| w.tick),
-                "remembered block walk"
-            );
-            chip.tp.walk_held.set(walk_held);
-        }
+        debug_assert_eq!(
+            Some(found),
+            walk_block(chip, tick, block, guard).map(|w| w.tick),
+            "remembered block walk"
+        );
         return found;
     }
+    walk_block_and_keep(chip, tick, block, guard)
+}
+
+/// [`next_block_bound`] without a walk kept: walked, and kept unless held.
+#[inline(never)]
+fn walk_block_and_keep(chip: &Chip, tick: u64, block: u8, guard: Writes) -> Option<u64> {
     match walk_block(chip, tick, block, guard) {
         Some(found) => {
             let epoch = chip.layout_epoch.get();
@@ -362,6 +364,7 @@ pub(crate) fn ram_rewritten(chip: &Chip) {
 
 /// [`next_tx_in_list`] from the current receive header, remembered (a master walks its
 /// AT headers once, not once per AT and cycle: [`TxAhead`]).
+#[inline]
 fn next_tx_memo(chip: &Chip, b: &Block, pt: u16) -> Option<u64> {
     let period = chip.engine.pre.period();
     if let Some(m) = chip.tp.tx_ahead.get()
@@ -392,6 +395,12 @@ fn next_tx_memo(chip: &Chip, b: &Block, pt: u16) -> Option<u64> {
         }
         return tick;
     }
+    walk_ahead(chip, b, pt)
+}
+
+/// [`next_tx_memo`] without a walk kept: walked and kept.
+#[inline(never)]
+fn walk_ahead(chip: &Chip, b: &Block, pt: u16) -> Option<u64> {
     let found = next_tx_in_list(chip, b, pt);
     let epoch = chip.layout_epoch.get();
     chip.tp.tx_ahead.set(Some(TxAhead {
