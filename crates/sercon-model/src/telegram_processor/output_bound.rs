@@ -259,8 +259,9 @@ pub(crate) struct TxAhead {
     hi: u32,
 }
 
-/// The controller wrote the RAM words `from .. from + len` (receive data, a header's VAL or
-/// NERR, TEND, NMSTERR): a remembered walk that read any of them is dropped.
+/// The controller wrote the RAM words `from .. from + len` (a transmit header's EN,
+/// NMSTERR; receive data and the status words of [`status_written`] while no layout proof
+/// holds): a remembered walk that read any of them is dropped.
 pub(crate) fn ram_written(chip: &Chip, from: u32, len: usize) {
     let end = from.saturating_add(u32::try_from(len).unwrap_or(u32::MAX));
     if let Some(m) = chip.tp.tx_ahead.get()
