@@ -136,10 +136,101 @@ fn words_or_zero(ram: &[u16], from: u32, len: usize) -> impl Iterator<Item = u16
     (0..len).map(move |i| walk::word(ram, from + i as u32).unwrap_or(0))
 }
 
-/// Builds ADR and the data words of the telegram in `chip.tp.txbuf`.
+/// Builds ADR and the data words of the telegram in `chip.tp.txbuf`: the usual telegram
+/// (one container kept under the layout proof, `walk_memo`, buffered in the RAM, no
+/// service container) the short way ([`assemble_kept`]), any other the general way
+/// ([`assemble_general`]). Debug builds assemble every short one the general way on a
+/// copy of the chip too and compare the whole chip.
 // 410B §4.2.1 ADR, TLEN ("Length of the telegram in data words (not including address)");
 // §4.2.2: the data containers in order, from the valid buffer or the transmit FIFO.
 fn assemble(chip: &mut Chip, at: u16, hdr: &TxHead) {
+    let buffering = hdr.buffering();
+    if buffering != Buffering::Dma
+        && let Some(c) = walk_memo::kept(chip, at, HeaderKind::Transmit, buffering)
+        && !c.control.svfl
+    {
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut general = chip.clone();
+            assemble_general(&mut general, at, hdr);
+            general
+        };
+        assemble_kept(chip, &c, hdr);
+        #[cfg(debug_assertions)]
+        check_kept_assembly(chip, general);
+        return;
+    }
+    assemble_general(chip, at, hdr);
+}
+
+/// [`assemble`] of a telegram whose one container `c` is kept (`walk_memo`: no walk error)
+/// and holds no service container, buffered in the RAM (410B §4.2.1 DMA = 0): ADR, the
+/// container's words from its valid buffer (410B §4.2.2, VAL/DBUF), at most TLEN of them
+/// (more is a container overrun, 410B §4.2.1 TLEN), then 0 up to TLEN; the transmit FIFO
+/// emptied and not wanted (410B §2 DMAREQT: no DMA telegram).
+#[inline(always)]
+fn assemble_kept(chip: &mut Chip, c: &walk::Container, hdr: &TxHead) {
+    let tlen = usize::from(hdr.tlen);
+    let len = usize::from(c.control.len);
+    let take = len.min(tlen);
+    let from = c.buffer(hdr.buffering(), hdr.val());
+    // The buffer brought to the telegram's length (a slave's holds its AT of the same
+    // length from the cycle before: nothing filled), every byte then written in place.
+    let buf = &mut chip.tp.txbuf;
+    let n = 1 + 2 * tlen;
+    buf.truncate(n);
+    buf.resize(n, 0);
+    // `take` ≤ TLEN: both splits are inside the buffer.
+    if let Some((adr, rest)) = buf.split_first_mut()
+        && let Some((dst, tail)) = rest.split_at_mut_checked(2 * take)
+    {
+        *adr = hdr.adr();
+        write_words(dst, &chip.ram, from, take);
+        if !tail.is_empty() {
+            // Containers shorter than TLEN: the rest of the telegram is sent as 0.
+            tail.fill(0);
+        }
+    }
+    chip.tp.fifo.tx.clear();
+    chip.tp.fifo.want_tx(0);
+    if take < len {
+        prog_error(chip, ProgErr::ContainerOverrun);
+    }
+}
+
+/// Writes the `len` RAM words from `from` into `dst` as little-endian bytes (410B §4.2.2),
+/// those outside the RAM as 0 (`words_or_zero`).
+#[inline(always)]
+fn write_words(dst: &mut [u8], ram: &[u16], from: u32, len: usize) {
+    match walk::words(ram, from, len) {
+        Some(data) => {
+            for (d, w) in dst.chunks_exact_mut(2).zip(data) {
+                d.copy_from_slice(&w.to_le_bytes());
+            }
+        }
+        None => {
+            for (d, w) in dst.chunks_exact_mut(2).zip(words_or_zero(ram, from, len)) {
+                d.copy_from_slice(&w.to_le_bytes());
+            }
+        }
+    }
+}
+
+/// Debug builds: the chip after [`assemble_kept`] is `general`, the chip the general
+/// assembly left, but for the containers' scratch list (which only the general walk fills).
+#[cfg(debug_assertions)]
+fn check_kept_assembly(chip: &Chip, mut general: Chip) {
+    general.tp.containers = chip.tp.containers.clone();
+    debug_assert_eq!(
+        format!("{general:?}"),
+        format!("{chip:?}"),
+        "a kept container's telegram assembled the short way"
+    );
+}
+
+/// [`assemble`] the general way: every container walked (or the kept one), from the
+/// valid buffer or the transmit FIFO, service containers filled in.
+fn assemble_general(chip: &mut Chip, at: u16, hdr: &TxHead) {
     let variant = chip.cfg.variant;
     let buffering = hdr.buffering();
     let tlen = usize::from(hdr.tlen);
