@@ -223,6 +223,17 @@ impl Simulation {
 
     /// Whether the ATs of `deferred` may go now (the module's conditions).
     fn deferred_may_go(&self, deferred: &[usize]) -> bool {
+        // The first slave's telegram is asked for first: after a telegram that lets the
+        // slaves run only up to the next one (a ring's MST: the MDT comes before the ATs),
+        // none has its AT queued yet, and that ends the checks below at once (every one of
+        // them must hold; their order changes nothing).
+        let Some(first) = self
+            .nodes
+            .get(1)
+            .and_then(|s| s.chip.sole_queued_telegram())
+        else {
+            return false;
+        };
         let n = self.nodes.len();
         // Every slave, in ring order, each once.
         if n < 2 || deferred.len() != n - 1 || !deferred.iter().copied().eq(1..n) {
@@ -250,10 +261,14 @@ impl Simulation {
         };
         let mut after: Option<Instant> = None;
         for j in 1..n {
-            let Some(node) = self.nodes.get(j) else {
-                return false;
+            let queued = if j == 1 {
+                Some(first)
+            } else {
+                self.nodes
+                    .get(j)
+                    .and_then(|node| node.chip.sole_queued_telegram())
             };
-            let Some((start, end, bit_time)) = node.chip.sole_queued_telegram() else {
+            let Some((start, end, bit_time)) = queued else {
                 return false;
             };
             // Its telegram is ahead of the simulation, and starts after the one before has
