@@ -46,6 +46,49 @@ struct Own {
     len: u64,
 }
 
+/// The own telegrams queued, by start: the first in place (a node has one queued at a
+/// time, usually: a ring slave its AT), the others behind it. The same queue as a
+/// `VecDeque<Own>`, with its front a load.
+#[derive(Debug, Clone, Default)]
+struct OwnQueue {
+    /// The first; `None` only when `rest` is empty too.
+    first: Option<Own>,
+    /// The ones after it.
+    rest: VecDeque<Own>,
+}
+
+impl OwnQueue {
+    fn front(&self) -> Option<&Own> {
+        self.first.as_ref()
+    }
+
+    fn len(&self) -> usize {
+        usize::from(self.first.is_some()) + self.rest.len()
+    }
+
+    fn is_empty(&self) -> bool {
+        self.first.is_none()
+    }
+
+    fn push_back(&mut self, own: Own) {
+        if self.first.is_none() {
+            debug_assert!(self.rest.is_empty());
+            self.first = Some(own);
+        } else {
+            self.rest.push_back(own);
+        }
+    }
+
+    fn pop_front(&mut self) -> Option<Own> {
+        debug_assert!(self.first.is_some() || self.rest.is_empty());
+        let first = self.first.take()?;
+        if !self.rest.is_empty() {
+            self.first = self.rest.pop_front();
+        }
+        Some(first)
+    }
+}
+
 impl Own {
     /// When its last bit ends.
     fn end(&self) -> Instant {
@@ -58,7 +101,7 @@ impl Own {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Transmitter {
     /// Own telegrams not yet released, by start.
-    own: VecDeque<Own>,
+    own: OwnQueue,
     /// Background segments not yet released, by start.
     background: VecDeque<Queued>,
     /// A carried copy queued right after the carried copy that is the background's only
@@ -1066,6 +1109,34 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(512)))]
+
+        /// `OwnQueue` is the `VecDeque<Own>` it stands for: after any pushes (by start, as
+        /// `Transmitter::transmit` queues them) and pops, the same front, length and
+        /// emptiness, and every pop gives the same telegram.
+        #[test]
+        fn the_own_queue_is_a_vecdeque(ops in proptest::collection::vec(any::<bool>(), 0..40)) {
+            let mut q = OwnQueue::default();
+            let mut d: VecDeque<Own> = VecDeque::new();
+            for (i, push) in (0u64..).zip(ops) {
+                if push {
+                    let own = Own {
+                        start: Instant::ZERO + Duration::from_nanos(BT * i),
+                        bit_time: Duration::from_picos(BT),
+                        presync: i % 2 == 0,
+                        telegram: Shared::from(&[1u8, 2][..]),
+                        len: 40 + i,
+                    };
+                    q.push_back(own.clone());
+                    d.push_back(own);
+                } else {
+                    let (a, b) = (q.pop_front(), d.pop_front());
+                    prop_assert_eq!(a.map(|o| (o.start, o.len)), b.map(|o| (o.start, o.len)));
+                }
+                prop_assert_eq!(q.front().map(|o| o.start), d.front().map(|o| o.start));
+                prop_assert_eq!(q.len(), d.len());
+                prop_assert_eq!(q.is_empty(), d.is_empty());
+            }
+        }
 
         /// The release's short paths leave exactly the state of the general loop's turns
         /// one by one, after every release (carried copies, background, own telegrams with
