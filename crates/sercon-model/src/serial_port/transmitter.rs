@@ -703,8 +703,12 @@ impl Transmitter {
                 .tail
                 .as_ref()
                 .is_some_and(|(tail, _)| resumes_filler(tail, own_until, seg.bit_time));
-        let followed = self.tail.take().map(|(tail, _)| tail);
-        if let Some(before) = std::mem::replace(&mut self.bg_active, followed) {
+        // The merged copy moved into place (it is there: checked above).
+        let before = match self.tail.take() {
+            Some((tail, _)) => self.bg_active.replace(tail),
+            None => self.bg_active.take(),
+        };
+        if let Some(before) = before {
             drop_in_line(before);
         }
         seg.then_filler = self.silent_resume;
