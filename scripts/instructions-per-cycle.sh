@@ -6,6 +6,9 @@
 #   (`cargo build --release -p sercos-sim --example ring_profile`).
 # Each ring runs twice with different lengths; the difference divided by the extra cycles
 # cancels the set-up: ring-8 1500 − 500 cycles, ring-254 60 − 20 cycles.
+# With SPLIT=1 it also runs ring-8 with one slave (`ring-8x1`) and splits ring-8's cycle into a
+# part per slave ((ring-8 − ring-8x1) / 7: the slave's chip, its deliveries, the master's
+# work for its AT) and a fixed part (the rest: the master's cycle, MST and MDT, the loop).
 set -euo pipefail
 bin=${1:-${CARGO_TARGET_DIR:-target}/release/examples/ring_profile}
 if [ ! -x "$bin" ]; then
@@ -18,6 +21,13 @@ refs() {
     awk '/refs/ {gsub(",", "", $4); print $4}'
 }
 a=$(refs ring-8 500); b=$(refs ring-8 1500)
-echo "ring-8: $(( (b - a) / 1000 )) instructions per cycle"
+ring8=$(( (b - a) / 1000 ))
+echo "ring-8: $ring8 instructions per cycle"
+if [ "${SPLIT:-0}" = 1 ]; then
+  a=$(refs ring-8x1 500); b=$(refs ring-8x1 1500)
+  one=$(( (b - a) / 1000 ))
+  per=$(( (ring8 - one) / 7 ))
+  echo "ring-8x1: $one instructions per cycle; ring-8: $per per slave, $(( one - per )) fixed"
+fi
 a=$(refs ring-254 20); b=$(refs ring-254 60)
 echo "ring-254: $(( (b - a) / 40 )) instructions per cycle"

@@ -25,6 +25,7 @@ use crate::recorder::{Recorder, TraceOutput};
 use crate::topology::Topology;
 
 mod bus;
+mod chip_calls;
 mod early_route;
 mod host_run;
 mod join_wake;
@@ -692,7 +693,7 @@ impl Simulation {
                 return Ok(false);
             }
             let local = node.clock.to_local(t);
-            node.chip.advance_to(local);
+            chip_calls::advance(j, &mut node.chip, local);
             if !quiet || !node.quiet_host() {
                 self.touch(j);
                 return Ok(false);
@@ -738,7 +739,7 @@ impl Simulation {
             return;
         }
         let local = node.clock.to_local(t);
-        node.chip.advance_to(local);
+        chip_calls::advance(j, &mut node.chip, local);
         self.touch(j);
     }
 
@@ -830,7 +831,7 @@ impl Simulation {
         let mut out = std::mem::take(&mut self.buf);
         // A chip run past its output (`run_ahead`) keeps what starts later until then.
         let until = node.clock.to_local(self.now);
-        node.chip.take_line_output_until(until, &mut out);
+        chip_calls::take(j, &mut node.chip, until, &mut out);
         self.route_taken(j, &mut out);
         self.buf = out;
         if !self.deferred.is_empty() {
@@ -1484,7 +1485,7 @@ impl Simulation {
             // path's gets the filler. Counted like the collisions the fast path cannot follow.
             self.stats.fast_path_collisions += 1;
         }
-        node.chip.line_input_at_level(local);
+        chip_calls::input(j, &mut node.chip, local);
         self.stats.deliveries += 1;
         // A segment that starts after the chip's time adds events from its start on only
         // (`Chip::line_input`; it may also put a pending event off, such as the FIBBR
@@ -1644,7 +1645,7 @@ impl Simulation {
         if to > node.chip.now() {
             self.stats.run_aheads += 1;
             if past_output {
-                node.chip.advance_to(to);
+                chip_calls::advance(j, &mut node.chip, to);
                 node.ran_past = true;
                 self.stats.runs_past_output += 1;
                 return true;

@@ -54,7 +54,7 @@ impl Simulation {
                     continue;
                 };
                 let until = node.chip.now();
-                node.chip.take_line_output_until(until, &mut out);
+                super::chip_calls::take(j, &mut node.chip, until, &mut out);
                 if plain
                     && let [seg] = out.as_slice()
                     && matches!(seg.signal, LineSignal::Bits(_))
