@@ -37,6 +37,7 @@ mod plain_pass;
 mod run_ahead_tests;
 #[cfg(test)]
 mod short_path_tests;
+mod swept;
 #[cfg(test)]
 mod test_lcg;
 #[cfg(test)]
@@ -257,6 +258,11 @@ pub struct Simulation {
     /// once per pass of a telegram of the master (nothing reaches the master before the
     /// pass's last hop).
     master_next: Option<Option<Instant>>,
+    /// A repeater latency and, for each node, the fibres' delay from the master's output and
+    /// that latency for each slave before it (`Simulation::master_horizon`'s sum, 410B §1):
+    /// made for the latency of a sweep of the master's segment (`sim/swept.rs`), kept while
+    /// the next has the same.
+    master_reach: (Duration, Vec<Duration>),
     /// A wake was joined in this event and some slave's parked wake may not be in the
     /// queue yet (`Node::park_unqueued`, `sim/join_wake.rs`).
     joined_parks: bool,
@@ -484,6 +490,7 @@ impl Simulation {
             stacks: crate::host_coroutine::Stacks::default(),
             resumes: std::collections::BinaryHeap::new(),
             light_wakes: true,
+            master_reach: (Duration::ZERO, Vec::new()),
             short_paths: true,
             run_ahead_ok,
             run_to: Instant::ZERO,
@@ -1223,6 +1230,8 @@ impl Simulation {
     /// written hop by hop.
     fn sweep_master_plain(&mut self, mut seg: LineSegment, lat: Duration) {
         let n = self.nodes.len();
+        // What each slave's delivery shares (`sim/swept.rs`).
+        let sw = self.swept(&seg, lat);
         // Every slave's floor is written below (nothing reads the last plain pass before).
         self.floors_written(1..n);
         let crossing = Crossing {
@@ -1244,7 +1253,7 @@ impl Simulation {
                     self.nodes.get(next).is_some_and(|n| !n.track_levels),
                     "levels followed on the fast path"
                 );
-                self.deliver(next, seg.clone(), 0, true);
+                self.deliver_swept(next, seg.clone(), &sw);
                 seg.start = seg.start.saturating_add(lat);
                 seg.distorted = false;
             }
@@ -1269,7 +1278,7 @@ impl Simulation {
                             && n.clock.is_identity()),
                 "a plain ring's fibre or slave is not plain"
             );
-            self.deliver(next, seg.clone(), 0, true);
+            self.deliver_swept(next, seg.clone(), &sw);
             // `repeat_out` on the simulation's clock.
             seg.start = seg.start.saturating_add(lat);
             seg.distorted = false;
@@ -1414,76 +1423,107 @@ impl Simulation {
 
     /// Hands `local` (given in simulation time, taken to the node's time here) to node `j`'s
     /// receiver.
-    fn deliver(&mut self, j: usize, mut local: LineSegment, origin: usize, repeating: bool) {
+    #[inline(always)]
+    fn deliver(&mut self, j: usize, local: LineSegment, origin: usize, repeating: bool) {
+        self.deliver_in(j, local, origin, repeating, None);
+    }
+
+    /// [`Simulation::deliver`]; `swept`: a slave's delivery of the master's segment in a
+    /// sweep, with what every slave's delivery of it shares found once (`sim/swept.rs`),
+    /// taken as found when the segment comes in order and is the master's bits.
+    fn deliver_in(
+        &mut self,
+        j: usize,
+        mut local: LineSegment,
+        origin: usize,
+        repeating: bool,
+        swept: Option<&swept::Swept>,
+    ) {
+        #[cfg(debug_assertions)]
+        if let Some(sw) = swept {
+            self.check_swept(j, &local, sw);
+        }
         let Some(node) = self.nodes.get_mut(j) else {
             return;
         };
-        if node.clock.is_identity() {
-            local.start = node.clock.to_local(local.start);
+        let swept = swept.filter(|_| {
+            local.start >= node.in_floor && matches!(local.signal, LineSignal::Bits(_))
+        });
+        let (ahead, start, ahead_to, past);
+        if let Some(sw) = swept {
+            (ahead, start, ahead_to) = swept::take_swept(node, &mut self.stats, &local, sw);
+            debug_assert_eq!(
+                ahead_to,
+                run_ahead_end(
+                    self.run_ahead_ok && self.lookahead == Lookahead::Events,
+                    origin,
+                    j,
+                    node,
+                    &local
+                ),
+                "a swept delivery's run-ahead end"
+            );
+            past = sw.past();
         } else {
-            local.start = node.map_in(local.start, &local);
-        }
-        if local.start < node.in_floor {
-            let fast = self.delivery == Delivery::Fast;
-            match out_of_order(&mut self.stats, fast, node, local) {
-                Some(s) => local = s,
-                None => return,
+            if node.clock.is_identity() {
+                local.start = node.clock.to_local(local.start);
+            } else {
+                local.start = node.map_in(local.start, &local);
             }
-        }
-        node.in_floor = local.start;
-        // The fast path leaves out segments this receiver ignores, so the level it saw
-        // last may differ from the sender's: a telegram is taken from the level the
-        // receiver is at (NRZI decodes an inverted telegram the same), by the chip
-        // (`Chip::line_input_at_level`; the sender's hint has the inverted bits at hand,
-        // `FrameHint::twin`). Nothing below reads the bits or the level before that.
-        if matches!(local.signal, LineSignal::Filler) {
-            node.continue_filler(&mut local);
-        }
-        // The exact path matches the repeater's copies with what it delivered; on the fast
-        // path the chip releases none (`Chip::set_forward_output`).
-        if repeating && self.delivery == Delivery::Exact {
-            let lat = local.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
-            node.expect.push_back(crate::node::ExpectedCopy {
-                at: local.start.saturating_add(lat),
-                origin,
-                replayed: false,
-                bits: matches!(local.signal, LineSignal::Bits(_)),
-            });
-        }
-        let ahead = local.start > node.chip.now();
-        if local.start < node.chip.now() {
-            self.stats.late += 1;
-        }
-        let start = node.clock.to_global(local.start);
-        // A telegram of the master to a slave (`Simulation::run_ahead`): where it ends. Only
-        // a node on the simulation's clock runs ahead (its local instants are the
-        // simulation's): with a clock error they do not map one to one (a telegram's end,
-        // taken back, can lie after the next one's start).
-        // The master's next segment is its next telegram only when this one carries the
-        // filler after it (unsplit on its way here, `splits_filler`): then a run past it may
-        // go up to that telegram (`Simulation::master_horizon`).
-        let past = (local.then_filler).then_some(local.bit_time);
-        let ahead_to = (self.run_ahead_ok
-            && self.lookahead == Lookahead::Events
-            && origin == 0
-            && j != 0
-            && node.clock.is_identity()
-            && matches!(local.signal, LineSignal::Bits(_)))
-        .then(|| local.end())
-        .flatten();
-        if origin != 0
-            && j != 0
-            && (self.replay_to.is_some() || self.replay_copy)
-            && self.delivery == Delivery::Fast
-            && matches!(local.signal, LineSignal::Bits(_))
-            && !local.then_filler
-        {
-            // A replay (a repair, a power-on) gives a fresh receiver a slave's telegram
-            // without the filler after it, which comes as a slave's segment of its own and,
-            // on the fast path, to no slave (see `propagate`): that receiver sees no edge
-            // until the master's next telegram (FIBBR, 410B §4.1 2H.13), where the reference
-            // path's gets the filler. Counted like the collisions the fast path cannot follow.
-            self.stats.fast_path_collisions += 1;
+            if local.start < node.in_floor {
+                let fast = self.delivery == Delivery::Fast;
+                match out_of_order(&mut self.stats, fast, node, local) {
+                    Some(s) => local = s,
+                    None => return,
+                }
+            }
+            node.in_floor = local.start;
+            // The fast path leaves out segments this receiver ignores, so the level it saw
+            // last may differ from the sender's: a telegram is taken from the level the
+            // receiver is at (NRZI decodes an inverted telegram the same), by the chip
+            // (`Chip::line_input_at_level`; the sender's hint has the inverted bits at hand,
+            // `FrameHint::twin`). Nothing below reads the bits or the level before that.
+            if matches!(local.signal, LineSignal::Filler) {
+                node.continue_filler(&mut local);
+            }
+            // The exact path matches the repeater's copies with what it delivered; on the fast
+            // path the chip releases none (`Chip::set_forward_output`).
+            if repeating && self.delivery == Delivery::Exact {
+                let lat = local.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+                node.expect.push_back(crate::node::ExpectedCopy {
+                    at: local.start.saturating_add(lat),
+                    origin,
+                    replayed: false,
+                    bits: matches!(local.signal, LineSignal::Bits(_)),
+                });
+            }
+            ahead = local.start > node.chip.now();
+            if local.start < node.chip.now() {
+                self.stats.late += 1;
+            }
+            start = node.clock.to_global(local.start);
+            // A telegram of the master to a slave (`Simulation::run_ahead`): where it ends
+            // (`run_ahead_end`: only on the simulation's clock). The master's next segment is
+            // its next telegram only when this one carries the filler after it (unsplit on
+            // its way here, `splits_filler`): then a run past it may go up to that telegram
+            // (`Simulation::master_horizon`).
+            past = (local.then_filler).then_some(local.bit_time);
+            let runs = self.run_ahead_ok && self.lookahead == Lookahead::Events;
+            ahead_to = run_ahead_end(runs, origin, j, node, &local);
+            if origin != 0
+                && j != 0
+                && (self.replay_to.is_some() || self.replay_copy)
+                && self.delivery == Delivery::Fast
+                && matches!(local.signal, LineSignal::Bits(_))
+                && !local.then_filler
+            {
+                // A replay (a repair, a power-on) gives a fresh receiver a slave's telegram
+                // without the filler after it, which comes as a slave's segment of its own and,
+                // on the fast path, to no slave (see `propagate`): that receiver sees no edge
+                // until the master's next telegram (FIBBR, 410B §4.1 2H.13), where the reference
+                // path's gets the filler. Counted like the collisions the fast path cannot follow.
+                self.stats.fast_path_collisions += 1;
+            }
         }
         chip_calls::input(j, &mut node.chip, local);
         self.stats.deliveries += 1;
@@ -1518,7 +1558,7 @@ impl Simulation {
                 return;
             }
             if let Some(end) = ahead_to
-                && self.run_ahead(j, end, past)
+                && self.run_ahead(j, end, past, swept)
             {
                 self.deferred.push(j);
             }
@@ -1568,12 +1608,25 @@ impl Simulation {
     /// wake: the chip runs through its own output too, which waits in it until the
     /// simulation's time reaches it (`route_outputs`) or is sent on with the other slaves'
     /// (`early_route`). Returns whether it ran so.
-    fn run_ahead(&mut self, j: usize, end: Instant, past: Option<Duration>) -> bool {
-        let mut limit = self.run_to.saturating_add(Duration::from_picos(1));
-        if let Some(f) = self.queue.peek_fault_time() {
-            limit = limit.min(f);
-        }
-        if let Some(h) = past.and_then(|bit_time| self.master_horizon(j, bit_time)) {
+    ///
+    /// `swept`: in a sweep of the master's segment, whose limit and master's promise are the
+    /// sweep's (`sim/swept.rs`).
+    #[inline(always)]
+    fn run_ahead(
+        &mut self,
+        j: usize,
+        end: Instant,
+        past: Option<Duration>,
+        swept: Option<&swept::Swept>,
+    ) -> bool {
+        let (mut limit, horizon) = match swept {
+            Some(sw) => self.swept_run_bounds(j, sw),
+            None => (
+                self.run_ahead_limit(),
+                past.and_then(|bit_time| self.master_horizon(j, bit_time)),
+            ),
+        };
+        if let Some(h) = horizon {
             // Through the node's own output too (taken at its wake, `route_outputs`, or
             // right after this pass, `early_route`).
             return self.run_ahead_to(j, limit.min(h), true);
@@ -1588,6 +1641,16 @@ impl Simulation {
         }
         self.run_ahead_to(j, limit, false);
         false
+    }
+
+    /// How far a run-ahead may go at most (`run_ahead`): just before the end of the current
+    /// run and the next fault event.
+    fn run_ahead_limit(&self) -> Instant {
+        let limit = self.run_to.saturating_add(Duration::from_picos(1));
+        match self.queue.peek_fault_time() {
+            Some(f) => limit.min(f),
+            None => limit,
+        }
     }
 
     /// When the master's next output can reach node `j` at the earliest, whatever the
@@ -1605,21 +1668,7 @@ impl Simulation {
         {
             return None;
         }
-        let out = match self.master_next {
-            Some(out) => out,
-            None => {
-                let out = master.chip.next_output_for_any_input();
-                self.master_next = Some(out);
-                out
-            }
-        }?;
-        debug_assert_eq!(
-            Some(out),
-            self.nodes
-                .first()
-                .and_then(|m| m.chip.next_output_for_any_input()),
-            "the master changed within a pass of its telegram"
-        );
+        let out = self.master_out()?;
         let repeaters = u64::try_from(j.saturating_sub(1)).ok()?;
         let latency = bit_time
             .saturating_mul(REPEATER_LATENCY_BITS)
@@ -1630,8 +1679,37 @@ impl Simulation {
         )
     }
 
+    /// The master's next output for any input (`Chip::next_output_for_any_input`, 410B
+    /// §4.2.1 TRT), found once per pass of its telegram (`master_next`).
+    #[inline(always)]
+    fn master_out(&mut self) -> Option<Instant> {
+        let out = match self.master_next {
+            Some(out) => out,
+            None => {
+                let out = self.nodes.first()?.chip.next_output_for_any_input();
+                self.master_next = Some(out);
+                out
+            }
+        };
+        debug_assert_eq!(
+            out,
+            self.nodes
+                .first()
+                .and_then(|m| m.chip.next_output_for_any_input()),
+            "the master changed within a pass of its telegram"
+        );
+        out
+    }
+
+    /// Whether slaves run ahead after a telegram of the master (`run_ahead_ok`, woken at
+    /// their next possible output: `Lookahead::Events`).
+    fn runs_ahead(&self) -> bool {
+        self.run_ahead_ok && self.lookahead == Lookahead::Events
+    }
+
     /// [`Simulation::run_ahead`] to just before `limit`; `past_output`: through the node's
     /// own output (a plain advance), else before it (the bound kept). Whether it ran past.
+    #[inline(always)]
     fn run_ahead_to(&mut self, j: usize, limit: Instant, past_output: bool) -> bool {
         // Just before: an input or an event at the limit itself keeps its order within the
         // instant (a segment's changes before the MCLK tick at the same instant).
@@ -1641,7 +1719,12 @@ impl Simulation {
         let Some(node) = self.nodes.get_mut(j) else {
             return false;
         };
-        let to = node.clock.to_local(to);
+        // Only slaves on the simulation's clock run ahead (`run_ahead_end`, `sim/swept.rs`):
+        // `to` is the node's time too.
+        debug_assert!(
+            node.clock.is_identity(),
+            "a run-ahead off the simulation's clock"
+        );
         if to > node.chip.now() {
             self.stats.run_aheads += 1;
             if past_output {
@@ -2088,6 +2171,28 @@ fn out_of_order(
         stats.fast_path_collisions += 1;
     }
     local.from_instant(node.in_floor)
+}
+
+/// Where slave `j` runs ahead to after `local` from `origin` reached it
+/// ([`Simulation::run_ahead`]): the end of a telegram of the master, when slaves run ahead
+/// (`runs`, `Simulation::runs_ahead`) and `j` is on the simulation's clock (its local instants
+/// are the simulation's: with a clock error they do not map one to one, and a telegram's
+/// end, taken back, can lie after the next one's start).
+#[inline(always)]
+fn run_ahead_end(
+    runs: bool,
+    origin: usize,
+    j: usize,
+    node: &Node,
+    local: &LineSegment,
+) -> Option<Instant> {
+    (runs
+        && origin == 0
+        && j != 0
+        && node.clock.is_identity()
+        && matches!(local.signal, LineSignal::Bits(_)))
+    .then(|| local.end())
+    .flatten()
 }
 
 /// The chip part of a node's next wake off the fast path (exact delivery, or woken for

@@ -274,3 +274,197 @@ fn a_take_of_several_segments_goes_on_in_order() {
         );
     }
 }
+
+/// 410B §4.2.1 TRT (the master's promise), §1 (repeaters): the master's clock drifts from
+/// 400 µs on, so its promise no longer holds for the slaves (`Simulation::master_horizon`:
+/// on the simulation's clock only), while its telegrams still sweep the plain slaves
+/// (`sim/swept.rs`): each runs ahead only to the end of the telegram and its wake after it.
+/// Debug builds compare every swept delivery's horizon with `master_horizon`'s (a sweep that
+/// took the promise as holding whatever the master's clock fails here).
+#[test]
+fn a_drifting_master_runs_the_same_without_the_short_paths() {
+    let drift = Fault {
+        at: us(400),
+        kind: FaultKind::ClockDrift { node: 0, ppm: 60.0 },
+    };
+    let quiet = same_either_way(&six_slaves(), &[drift], us(1600), "a drifting master");
+    // Before the drift the slaves ran past their ATs; after it only to the telegrams' ends.
+    assert!(quiet.runs_past_output > 0, "{quiet:?}");
+    assert!(
+        quiet.run_aheads > quiet.runs_past_output + 6 * 2 * 3,
+        "{quiet:?}"
+    );
+}
+
+/// A slave whose pins are traced (a VCD) has no quiet host (`Node::quiet_host`): it runs
+/// not ahead when the master's telegram sweeps past it (`sim/swept.rs`), the others do. The
+/// same run, traced pins included, with the short paths as without.
+#[test]
+fn a_sweep_past_a_traced_slave_runs_the_same_without_the_short_paths() {
+    use sercon_model::pins::PinSet;
+    use sercos_wire::time::Duration;
+
+    let run = |short: bool, step: Duration| {
+        let Ok((mut cfg, hosts, _)) = six_slaves().build() else {
+            panic!("the ring fits");
+        };
+        cfg.traces.vcd = vec![(3, PinSet::ALL)];
+        let Ok(mut sim) = super::Simulation::new(cfg, hosts) else {
+            panic!("the simulation builds");
+        };
+        sim.short_paths = short;
+        let mut t = Instant::ZERO;
+        while t < us(1600) {
+            t = t.saturating_add(step).min(us(1600));
+            assert!(sim.run_until(t).is_ok());
+        }
+        let stats = sim.stats();
+        let words = super::test_state::chip_words(&mut sim, 2048);
+        let Ok(out) = sim.finish() else {
+            panic!("the traces end");
+        };
+        (stats, words, out.vcd)
+    };
+    for step in [STEP, Duration::from_micros(1600)] {
+        let (long, short) = (run(false, step), run(true, step));
+        let joined = SimStats {
+            events: short.0.events + short.0.joined_wakes,
+            joined_wakes: 0,
+            ..short.0
+        };
+        assert_eq!(long.0, joined, "counters (steps of {step:?})");
+        assert_eq!(long.1, short.1, "registers and RAM (steps of {step:?})");
+        assert_eq!(long.2, short.2, "traced pins (steps of {step:?})");
+        // Its pins change (a VCD's `#` time stamps).
+        assert!(
+            short.2.iter().filter(|b| **b == b'#').count() > 10,
+            "pins traced"
+        );
+        // The five other slaves ran past their ATs.
+        assert!(short.0.runs_past_output >= 5 * 2 * 4, "{:?}", short.0);
+    }
+}
+
+/// A slave's delivery in a sweep of the master's segment (`sim/swept.rs`) against `deliver`
+/// itself, each on its own copy of one ring at 700 µs: the master's bits with their filler
+/// ahead of the slave's chip, its bits starting before the receiver's input floor (cut there,
+/// `out_of_order`: the sweep hands them to `deliver`), a filler (continued from the bits
+/// before, `Node::continue_filler`: the same). The slave ends the same either way (input
+/// floor, counters, what is left to serve or set, registers and RAM), and so does the run
+/// after it.
+#[test]
+fn a_swept_delivery_is_deliver_s_own() {
+    use sercon_model::serial_port::{LineSegment, LineSignal, REPEATER_LATENCY_BITS};
+    use sercos_wire::line::BitVec;
+    use sercos_wire::time::Duration;
+
+    let build = || {
+        let Ok((cfg, hosts, _)) = six_slaves().build() else {
+            panic!("the ring fits");
+        };
+        let Ok(mut sim) = super::Simulation::new(cfg, hosts) else {
+            panic!("the simulation builds");
+        };
+        assert!(sim.run_until(us(700)).is_ok());
+        sim
+    };
+    // 16 Mbit/s (the ring's rate): 62.5 ns a bit.
+    let bit = Duration::from_picos(62_500);
+    let bits_at = |start: Instant, n: usize, bit: Duration| {
+        let mut v = BitVec::with_capacity(n);
+        for i in 0..n {
+            v.push(i % 3 == 0);
+        }
+        LineSegment {
+            then_filler: true,
+            ..LineSegment::bits(start, bit, v, false)
+        }
+    };
+    let bits = |start: Instant, n: usize| bits_at(start, n, bit);
+    let probe = build();
+    let Some(slave) = probe.nodes.get(1) else {
+        panic!("a slave");
+    };
+    let (now, floor) = (slave.chip.now(), slave.in_floor);
+    assert!(floor > us(1), "the slave had input");
+    // The end of the bits it received last, and the level they left (410B §4.1 1H.12 NRZI).
+    let (Some(end), Some(level)) = (
+        slave.chip.last_input_bits_end(),
+        slave
+            .chip
+            .last_input_bits_end()
+            .and_then(|e| slave.chip.received_level_at(e)),
+    ) else {
+        panic!("the slave received bits");
+    };
+    let segs = [
+        (
+            "bits ahead",
+            bits(now.saturating_add(Duration::from_micros(2)), 64),
+        ),
+        (
+            "bits out of order",
+            bits(Instant::from_picos(floor.as_picos() - 1_000_000), 400),
+        ),
+        (
+            "filler",
+            LineSegment::steady(
+                now.saturating_add(Duration::from_micros(3)),
+                bit,
+                LineSignal::Filler,
+                false,
+            ),
+        ),
+        // Another bit time, another repeater latency (410B §1): the sweep's table of the
+        // master's reach is made anew (`master_reach`).
+        (
+            "bits at 8 Mbit/s",
+            bits_at(
+                now.saturating_add(Duration::from_micros(2)),
+                64,
+                bit.saturating_mul(2),
+            ),
+        ),
+        // Sent from the other level: taken on from the bits' (`Node::continue_filler`).
+        (
+            "filler after the bits",
+            LineSegment::steady(end, bit, LineSignal::Filler, !level),
+        ),
+    ];
+    for (what, seg) in segs {
+        let (mut swept, mut general) = (build(), build());
+        // The repeater latency at the segment's bit time (410B §1), as a sweep takes it.
+        let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        let sw = swept.swept(&seg, lat);
+        swept.deliver_swept(1, seg.clone(), &sw);
+        general.deliver(1, seg, 0, true);
+        let floors = |s: &super::Simulation| s.nodes.get(1).map(|n| n.in_floor);
+        assert_eq!(floors(&swept), floors(&general), "{what}: input floor");
+        // The line as the receiver saw it, a bit time after another.
+        let levels = |s: &super::Simulation| {
+            (0..16)
+                .map(|k| {
+                    let t = end.saturating_add(bit.saturating_mul(k));
+                    s.nodes.get(1).and_then(|n| n.chip.received_level_at(t))
+                })
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(levels(&swept), levels(&general), "{what}: received levels");
+        assert_eq!(swept.stats, general.stats, "{what}: counters");
+        assert_eq!(swept.touched, general.touched, "{what}: touched");
+        assert_eq!(swept.rewake, general.rewake, "{what}: wakes to set");
+        assert_eq!(swept.deferred, general.deferred, "{what}: ATs deferred");
+        assert_eq!(
+            super::test_state::chip_words(&mut swept, 2048),
+            super::test_state::chip_words(&mut general, 2048),
+            "{what}: registers and RAM"
+        );
+        assert!(swept.run_until(us(900)).is_ok() && general.run_until(us(900)).is_ok());
+        assert_eq!(swept.stats, general.stats, "{what}: counters after");
+        assert_eq!(
+            super::test_state::chip_words(&mut swept, 2048),
+            super::test_state::chip_words(&mut general, 2048),
+            "{what}: registers and RAM after"
+        );
+    }
+}
