@@ -10,6 +10,7 @@ mod cycle;
 mod cycle_plan;
 mod deadline;
 mod engine;
+mod first_queue;
 mod interrupts;
 mod mclk;
 mod mst;

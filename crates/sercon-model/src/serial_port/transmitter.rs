@@ -14,6 +14,7 @@ use sercos_wire::time::{Duration, Instant};
 use super::coded_frames::CodedFrames;
 use super::segment::{FrameHint, LineSegment, LineSignal, Shared};
 use crate::chip::earliest;
+use crate::first_queue::FirstQueue;
 
 /// An own telegram placed on the transmitter's timeline.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -102,8 +103,9 @@ impl Own {
 pub(crate) struct Transmitter {
     /// Own telegrams not yet released, by start.
     own: OwnQueue,
-    /// Background segments not yet released, by start.
-    background: VecDeque<Queued>,
+    /// Background segments not yet released, by start: the first in place (on a ring
+    /// slave, the carried MST copy, usually alone, with the MDT copy in `tail`).
+    background: FirstQueue<Queued>,
     /// A carried copy queued right after the carried copy that is the background's only
     /// entry (an intact ring's MDT copy after its MST copy), kept here instead of a queue
     /// entry of its own, with the inversion it is followed with by the line's level at the
@@ -282,7 +284,7 @@ impl Transmitter {
                 debug_assert_eq!(self.uncarried, self.count_uncarried());
                 return;
             }
-            if self.background.len() == 1
+            if self.background.is_single()
                 && let Some(b) = self.background.back()
                 && b.carried
                 && b.seg.start < start
@@ -303,7 +305,7 @@ impl Transmitter {
         if self.tail.is_some() {
             self.split_merged();
         } else if carried
-            && self.background.len() == 1
+            && self.background.is_single()
             && let Some(b) = self.background.back()
             && b.carried
             && b.seg.start < start
@@ -528,7 +530,7 @@ impl Transmitter {
                     // one when the release loop would follow both: the first past the last
                     // own telegram's end, the second at or before `now` and before the next
                     // own telegram (which wins a tie).
-                    if self.background.len() == 1
+                    if self.background.is_single()
                         && t >= self.own_until
                         && tail.start <= now
                         && own_at.is_none_or(|o| tail.start < o)
@@ -665,7 +667,7 @@ impl Transmitter {
         // the own telegram too.
         debug_assert!(t0 < tail.start);
         if self.resume_at.is_some()
-            || self.background.len() != 1
+            || !self.background.is_single()
             || o > now
             || tail.start >= o
             || t0 < self.own_until

@@ -27,7 +27,7 @@ mod transmit;
 mod walk;
 mod walk_memo;
 
-use std::collections::VecDeque;
+use crate::first_queue::FirstQueue;
 
 use sercon_regs::Register;
 use sercon_regs::ram::header::TxEnable;
@@ -259,8 +259,10 @@ pub(crate) struct TelegramProcessor {
     /// A block starting at the given tick (the end of the MST) with the given number.
     pub(crate) pending_block: Option<(u64, u8)>,
     /// Frames delivered ahead of time, ordered by start, each with the MCLK tick of its
-    /// start (computed once when queued: the event loop asks for it on every turn).
-    pub(crate) rx_queue: VecDeque<(u64, HeardFrame)>,
+    /// start (computed once when queued: the event loop asks for it on every turn). The
+    /// first in place: on a steady ring a frame mostly comes to an empty queue (a slave
+    /// takes its MST before its MDT comes) and is taken from the front.
+    pub(crate) rx_queue: FirstQueue<(u64, HeardFrame)>,
     pub(crate) rx_now: Option<RxNow>,
     /// The start of the last frame taken from `rx_queue` (its start processed, or passed
     /// over): a take-back of a frame that starts no later finds it taken. The frame in
@@ -490,12 +492,8 @@ pub(crate) fn take_back_frame(chip: &mut Chip, start: Instant) {
         }
     } else if let Some(i) = first {
         // Still queued: it stays for its start, the replacement is kept for its end.
-        let new = q
-            .iter()
-            .skip(i + 1)
-            .position(|(_, f)| f.start == start)
-            .and_then(|k| q.remove(i + 1 + k))
-            .map(|(_, f)| f);
+        let later = q.iter().skip(i + 1).position(|(_, f)| f.start == start);
+        let new = later.and_then(|k| q.remove(i + 1 + k)).map(|(_, f)| f);
         let replacing = match new {
             Some(f) => f,
             None => match q.get(i) {
