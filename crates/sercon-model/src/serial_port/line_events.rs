@@ -121,6 +121,25 @@ impl LineEvents {
         debug_assert_eq!(self.rdist_last, self.compute_rdist_last());
     }
 
+    /// Schedules a received telegram's REACTN pulse (410B §2 REACTN: low from `low` while
+    /// the telegram is received, high again from `end`): the two changes [`LineEvents::push`]
+    /// schedules for them, one after the other; quiet, appended in one go
+    /// (`QuietPins::push_reactn_pulse`).
+    #[inline(always)]
+    pub(crate) fn push_reactn_pulse(&mut self, low: Instant, end: Instant) {
+        if self.pins_loud {
+            self.push(low, Change::Reactn(false));
+            self.push(end, Change::Reactn(true));
+            return;
+        }
+        self.quiet.push_reactn_pulse(low, end);
+        #[cfg(debug_assertions)]
+        {
+            self.shadow.0.push(low, Change::Reactn(false));
+            self.shadow.0.push(end, Change::Reactn(true));
+        }
+    }
+
     /// Schedules an own telegram's IDLE changes (410B §2 IDLE: 0 from `start` while the
     /// telegram is sent, 1 from `end`); quiet, they are kept as the interval
     /// (`QuietPins::push_own`).

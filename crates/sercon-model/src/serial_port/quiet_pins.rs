@@ -86,6 +86,40 @@ impl QuietPins {
         self.keep(at, change);
     }
 
+    /// A received telegram's REACTN pulse (410B §2 REACTN: low from `low` while the
+    /// telegram is received, high again from `end`): the two changes [`QuietPins::push`]
+    /// keeps for `(low, Reactn(false))` and then `(end, Reactn(true))`, appended in one go
+    /// when `low` ≤ `end` (every pulse the receiver schedules: it falls with the opening
+    /// flag's end or the frame's, whichever comes first); debug builds compare with the
+    /// two pushes.
+    #[inline(always)]
+    pub(crate) fn push_reactn_pulse(&mut self, low: Instant, end: Instant) {
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut general = self.clone();
+            general.push(low, Change::Reactn(false));
+            general.push(end, Change::Reactn(true));
+            general
+        };
+        if low <= end {
+            // Both taken from the applied instant on, in order: only the fall can come
+            // before REACTN's last change kept.
+            let (low, end) = (low.max(self.applied), end.max(self.applied));
+            self.unsorted |= low < self.last.1;
+            self.last.1 = end;
+            self.changes.push((low, Change::Reactn(false)));
+            self.changes.push((end, Change::Reactn(true)));
+        } else {
+            self.push(low, Change::Reactn(false));
+            self.push(end, Change::Reactn(true));
+        }
+        #[cfg(debug_assertions)]
+        debug_assert!(
+            *self == general,
+            "a REACTN pulse appended in one go differs from its two pushes"
+        );
+    }
+
     /// Appends a change as it is.
     fn keep(&mut self, at: Instant, change: Change) {
         self.unsorted |= follows_out_of_order(&mut self.last, at, change);
@@ -238,5 +272,65 @@ impl QuietPins {
         self.last = (Instant::default(), Instant::default());
         self.unsorted = false;
         std::mem::take(&mut self.changes).into_iter()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn at(ns: u64) -> Instant {
+        Instant::from_picos(ns * 1000)
+    }
+
+    proptest! {
+        /// 410B §2 REACTN: a pulse appended in one go (`push_reactn_pulse`) leaves the quiet
+        /// changes exactly as its two pushes do, whatever was kept before (REACTN changes
+        /// out of time order, own IDLE intervals, changes applied and folded) and whether
+        /// the pulse falls before its rise or not.
+        #[test]
+        fn a_reactn_pulse_is_its_two_pushes(
+            steps in prop::collection::vec((0u8..6, 0u64..200, 0u64..200), 1..60),
+        ) {
+            let (mut pulsed, mut pushed) = (QuietPins::default(), QuietPins::default());
+            let (mut lp, mut lq) = ((true, true), (true, true));
+            for (kind, a, b) in steps {
+                match kind {
+                    0 | 1 => {
+                        // The receiver's pulse: it falls no later than it rises.
+                        let (low, end) = (at(a.min(b)), at(a.max(b)));
+                        pulsed.push_reactn_pulse(low, end);
+                        pushed.push(low, Change::Reactn(false));
+                        pushed.push(end, Change::Reactn(true));
+                    }
+                    2 => {
+                        // Any other order takes the two pushes.
+                        pulsed.push_reactn_pulse(at(a), at(b));
+                        pushed.push(at(a), Change::Reactn(false));
+                        pushed.push(at(b), Change::Reactn(true));
+                    }
+                    3 => {
+                        let change = if b % 2 == 0 { Change::Reactn(b % 4 == 0) } else { Change::Idle(b % 3 == 0) };
+                        pulsed.push(at(a), change);
+                        pushed.push(at(a), change);
+                    }
+                    4 => {
+                        pulsed.push_own(at(a), at(a + b));
+                        pushed.push_own(at(a), at(a + b));
+                    }
+                    _ => {
+                        pulsed.apply(at(a), &mut lp);
+                        pushed.apply(at(a), &mut lq);
+                    }
+                }
+                prop_assert_eq!(&pulsed, &pushed);
+                prop_assert_eq!(lp, lq);
+                prop_assert_eq!(
+                    pulsed.level(PinLine::Reactn, lp.1),
+                    pushed.level(PinLine::Reactn, lq.1)
+                );
+            }
+        }
     }
 }

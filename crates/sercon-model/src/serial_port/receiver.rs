@@ -918,8 +918,7 @@ fn deliver<F: FrameSink>(
         .start
         .saturating_add(bit_time.saturating_mul(FLAG_BITS))
         .min(frame.end);
-    events.push(low, Change::Reactn(false));
-    events.push(frame.end, Change::Reactn(true));
+    events.push_reactn_pulse(low, frame.end);
     frames.take(frame);
 }
 
