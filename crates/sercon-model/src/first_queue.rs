@@ -12,16 +12,19 @@
 
 use std::collections::VecDeque;
 
-/// A `VecDeque<T>` with its first entry in place.
+/// A `VecDeque<T>` with its first entry in place. `REST_INLINE`: what goes behind the first
+/// and moves up is handled inline too (the transmitter's own telegrams: a master queues
+/// several a cycle, measured cheaper so; the other queues hold one, mostly, and keep that
+/// path out of line).
 #[derive(Debug, Clone)]
-pub(crate) struct FirstQueue<T> {
+pub(crate) struct FirstQueue<T, const REST_INLINE: bool = false> {
     /// The first; `None` only when `rest` is empty too.
     first: Option<T>,
     /// The ones after it.
     rest: VecDeque<T>,
 }
 
-impl<T> Default for FirstQueue<T> {
+impl<T, const REST_INLINE: bool> Default for FirstQueue<T, REST_INLINE> {
     fn default() -> Self {
         FirstQueue {
             first: None,
@@ -30,7 +33,7 @@ impl<T> Default for FirstQueue<T> {
     }
 }
 
-impl<T> FirstQueue<T> {
+impl<T, const REST_INLINE: bool> FirstQueue<T, REST_INLINE> {
     /// The first entry.
     #[inline]
     pub(crate) fn front(&self) -> Option<&T> {
@@ -57,6 +60,8 @@ impl<T> FirstQueue<T> {
         if self.first.is_none() {
             debug_assert!(self.rest.is_empty());
             self.first = Some(entry);
+        } else if REST_INLINE {
+            self.rest.push_back(entry);
         } else {
             self.push_behind(entry);
         }
@@ -76,7 +81,11 @@ impl<T> FirstQueue<T> {
         debug_assert!(self.first.is_some() || self.rest.is_empty());
         let first = self.first.take()?;
         if !self.rest.is_empty() {
-            self.move_up();
+            if REST_INLINE {
+                self.first = self.rest.pop_front();
+            } else {
+                self.move_up();
+            }
         }
         Some(first)
     }
@@ -183,55 +192,90 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-    proptest! {
-        /// Every operation leaves the queue as it leaves a `VecDeque` and returns what
-        /// that one returns.
-        #[test]
-        fn a_first_queue_is_a_vecdeque(ops in prop::collection::vec((0u8..12, 0usize..6, any::<u16>()), 0..80)) {
-            let mut q = FirstQueue::default();
-            let mut v: VecDeque<u16> = VecDeque::new();
-            for (op, i, x) in ops {
-                match op {
-                    0 | 1 => { q.push_back(x); v.push_back(x); }
-                    2 => prop_assert_eq!(q.pop_front(), v.pop_front()),
-                    3 => prop_assert_eq!(q.remove(i), v.remove(i)),
-                    4 => {
-                        let i = i.min(v.len());
-                        q.insert(i, x);
-                        v.insert(i, x);
+    /// Runs `ops` on a `FirstQueue` of either form and on a `VecDeque`: every operation
+    /// leaves the queue as it leaves the `VecDeque` and returns what that one returns.
+    fn same_as_vecdeque<const REST_INLINE: bool>(
+        ops: Vec<(u8, usize, u16)>,
+    ) -> Result<(), TestCaseError> {
+        let mut q = FirstQueue::<u16, REST_INLINE>::default();
+        let mut v: VecDeque<u16> = VecDeque::new();
+        for (op, i, x) in ops {
+            match op {
+                0 | 1 => {
+                    q.push_back(x);
+                    v.push_back(x);
+                }
+                2 => prop_assert_eq!(q.pop_front(), v.pop_front()),
+                3 => prop_assert_eq!(q.remove(i), v.remove(i)),
+                4 => {
+                    let i = i.min(v.len());
+                    q.insert(i, x);
+                    v.insert(i, x);
+                }
+                5 => {
+                    if let Some(e) = q.get_mut(i) {
+                        *e = x;
                     }
-                    5 => {
-                        if let Some(e) = q.get_mut(i) { *e = x; }
-                        if let Some(e) = v.get_mut(i) { *e = x; }
-                    }
-                    6 => {
-                        for e in q.iter_mut() { *e = e.wrapping_add(x); }
-                        for e in v.iter_mut() { *e = e.wrapping_add(x); }
-                    }
-                    8 => prop_assert_eq!(q.pop_back(), v.pop_back()),
-                    9 => { q.push_front(x); v.push_front(x); }
-                    10 => if i == 0 { q.clear(); v.clear(); },
-                    _ => {
-                        // Sorted, a partition point and an insert there (`on_rx_frame`).
-                        let mut s: Vec<u16> = v.iter().copied().collect();
-                        s.sort_unstable();
-                        v = s.iter().copied().collect();
-                        q = FirstQueue::default();
-                        for e in &s { q.push_back(*e); }
-                        let p = q.partition_point(|e| *e <= x);
-                        prop_assert_eq!(p, v.partition_point(|e| *e <= x));
-                        q.insert(p, x);
-                        v.insert(p, x);
+                    if let Some(e) = v.get_mut(i) {
+                        *e = x;
                     }
                 }
-                prop_assert_eq!(q.iter().count(), v.len());
-                prop_assert_eq!(q.is_single(), v.len() == 1);
-                prop_assert_eq!(q.is_empty(), v.is_empty());
-                prop_assert_eq!(q.front(), v.front());
-                prop_assert_eq!(q.back(), v.back());
-                prop_assert_eq!(q.get(i), v.get(i));
-                prop_assert!(q.iter().eq(v.iter()));
+                6 => {
+                    for e in q.iter_mut() {
+                        *e = e.wrapping_add(x);
+                    }
+                    for e in v.iter_mut() {
+                        *e = e.wrapping_add(x);
+                    }
+                }
+                8 => prop_assert_eq!(q.pop_back(), v.pop_back()),
+                9 => {
+                    q.push_front(x);
+                    v.push_front(x);
+                }
+                10 => {
+                    if i == 0 {
+                        q.clear();
+                        v.clear();
+                    }
+                }
+                _ => {
+                    // Sorted, a partition point and an insert there (`on_rx_frame`).
+                    let mut s: Vec<u16> = v.iter().copied().collect();
+                    s.sort_unstable();
+                    v = s.iter().copied().collect();
+                    q = FirstQueue::<u16, REST_INLINE>::default();
+                    for e in &s {
+                        q.push_back(*e);
+                    }
+                    let p = q.partition_point(|e| *e <= x);
+                    prop_assert_eq!(p, v.partition_point(|e| *e <= x));
+                    q.insert(p, x);
+                    v.insert(p, x);
+                }
             }
+            prop_assert_eq!(q.iter().count(), v.len());
+            prop_assert_eq!(q.is_single(), v.len() == 1);
+            prop_assert_eq!(q.is_empty(), v.is_empty());
+            prop_assert_eq!(q.front(), v.front());
+            prop_assert_eq!(q.back(), v.back());
+            prop_assert_eq!(q.get(i), v.get(i));
+            prop_assert!(q.iter().eq(v.iter()));
+        }
+        Ok(())
+    }
+
+    proptest! {
+        /// The queue with its rest out of line (the receive queue, the background).
+        #[test]
+        fn a_first_queue_is_a_vecdeque(ops in prop::collection::vec((0u8..12, 0usize..6, any::<u16>()), 0..80)) {
+            same_as_vecdeque::<false>(ops)?;
+        }
+
+        /// The queue with its rest inline (the transmitter's own telegrams).
+        #[test]
+        fn a_first_queue_with_its_rest_inline_is_a_vecdeque(ops in prop::collection::vec((0u8..12, 0usize..6, any::<u16>()), 0..80)) {
+            same_as_vecdeque::<true>(ops)?;
         }
     }
 }

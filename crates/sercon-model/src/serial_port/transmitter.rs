@@ -7,8 +7,6 @@
 //! forwarded segment that an own telegram overlaps is cut (410B §1: "The slaves regenerate and
 //! repeat their received data or send their own telegrams").
 
-use std::collections::VecDeque;
-
 use sercos_wire::time::{Duration, Instant};
 
 use super::coded_frames::CodedFrames;
@@ -47,49 +45,6 @@ struct Own {
     len: u64,
 }
 
-/// The own telegrams queued, by start: the first in place (a node has one queued at a
-/// time, usually: a ring slave its AT), the others behind it. The same queue as a
-/// `VecDeque<Own>`, with its front a load.
-#[derive(Debug, Clone, Default)]
-struct OwnQueue {
-    /// The first; `None` only when `rest` is empty too.
-    first: Option<Own>,
-    /// The ones after it.
-    rest: VecDeque<Own>,
-}
-
-impl OwnQueue {
-    fn front(&self) -> Option<&Own> {
-        self.first.as_ref()
-    }
-
-    fn len(&self) -> usize {
-        usize::from(self.first.is_some()) + self.rest.len()
-    }
-
-    fn is_empty(&self) -> bool {
-        self.first.is_none()
-    }
-
-    fn push_back(&mut self, own: Own) {
-        if self.first.is_none() {
-            debug_assert!(self.rest.is_empty());
-            self.first = Some(own);
-        } else {
-            self.rest.push_back(own);
-        }
-    }
-
-    fn pop_front(&mut self) -> Option<Own> {
-        debug_assert!(self.first.is_some() || self.rest.is_empty());
-        let first = self.first.take()?;
-        if !self.rest.is_empty() {
-            self.first = self.rest.pop_front();
-        }
-        Some(first)
-    }
-}
-
 impl Own {
     /// When its last bit ends.
     fn end(&self) -> Instant {
@@ -101,8 +56,10 @@ impl Own {
 /// The transmitter's timelines.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Transmitter {
-    /// Own telegrams not yet released, by start.
-    own: OwnQueue,
+    /// Own telegrams not yet released, by start: the first in place (a node has one queued
+    /// at a time, usually: a ring slave its AT), the others behind it inline (a master
+    /// queues several a cycle).
+    own: FirstQueue<Own, true>,
     /// Background segments not yet released, by start: the first in place (on a ring
     /// slave, the carried MST copy, usually alone, with the MDT copy in `tail`).
     background: FirstQueue<Queued>,
@@ -416,7 +373,7 @@ impl Transmitter {
     /// released around it: no background segment queued and any resume after it silent.
     pub(crate) fn sole_own(&self) -> Option<(Instant, Instant, Duration)> {
         debug_assert_eq!(self.uncarried, self.count_uncarried());
-        if self.own.len() != 1 || !self.released.is_empty() || self.uncarried != 0 {
+        if !self.own.is_single() || !self.released.is_empty() || self.uncarried != 0 {
             return None;
         }
         if self.resume_at.is_some_and(|r| !self.resume_is_silent(r)) {
@@ -980,7 +937,7 @@ mod tests {
     /// [`Transmitter::sole_own`] from a walk of the background queue.
     fn sole_own_from_queues(tx: &Transmitter) -> Option<(Instant, Instant, Duration)> {
         let own = tx.own.front()?;
-        (tx.own.len() == 1
+        (tx.own.is_single()
             && tx.released.is_empty()
             && tx.background.iter().all(|q| q.carried)
             && tx.resume_at.is_none_or(|r| tx.resume_is_silent(r)))
@@ -1115,34 +1072,6 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(512)))]
-
-        /// `OwnQueue` is the `VecDeque<Own>` it stands for: after any pushes (by start, as
-        /// `Transmitter::transmit` queues them) and pops, the same front, length and
-        /// emptiness, and every pop gives the same telegram.
-        #[test]
-        fn the_own_queue_is_a_vecdeque(ops in proptest::collection::vec(any::<bool>(), 0..40)) {
-            let mut q = OwnQueue::default();
-            let mut d: VecDeque<Own> = VecDeque::new();
-            for (i, push) in (0u64..).zip(ops) {
-                if push {
-                    let own = Own {
-                        start: Instant::ZERO + Duration::from_nanos(BT * i),
-                        bit_time: Duration::from_picos(BT),
-                        presync: i % 2 == 0,
-                        telegram: Shared::from(&[1u8, 2][..]),
-                        len: 40 + i,
-                    };
-                    q.push_back(own.clone());
-                    d.push_back(own);
-                } else {
-                    let (a, b) = (q.pop_front(), d.pop_front());
-                    prop_assert_eq!(a.map(|o| (o.start, o.len)), b.map(|o| (o.start, o.len)));
-                }
-                prop_assert_eq!(q.front().map(|o| o.start), d.front().map(|o| o.start));
-                prop_assert_eq!(q.len(), d.len());
-                prop_assert_eq!(q.is_empty(), d.is_empty());
-            }
-        }
 
         /// The release's short paths leave exactly the state of the general loop's turns
         /// one by one, after every release (carried copies, background, own telegrams with
