@@ -230,16 +230,7 @@ fn a_take_of_several_segments_goes_on_in_order() {
     use sercon_model::serial_port::{LineSegment, LineSignal};
     use sercos_wire::time::Duration;
 
-    let build = || {
-        let Ok((cfg, hosts, _)) = six_slaves().build() else {
-            panic!("the ring fits");
-        };
-        let Ok(mut sim) = super::Simulation::new(cfg, hosts) else {
-            panic!("the simulation builds");
-        };
-        assert!(sim.run_until(us(700)).is_ok());
-        sim
-    };
+    let build = six_slaves_at_700_us;
     // Two and three segments: both go past the one-segment pop.
     for n in [2, 3] {
         let (mut taken, mut each) = (build(), build());
@@ -358,16 +349,7 @@ fn a_swept_delivery_is_deliver_s_own() {
     use sercos_wire::line::BitVec;
     use sercos_wire::time::Duration;
 
-    let build = || {
-        let Ok((cfg, hosts, _)) = six_slaves().build() else {
-            panic!("the ring fits");
-        };
-        let Ok(mut sim) = super::Simulation::new(cfg, hosts) else {
-            panic!("the simulation builds");
-        };
-        assert!(sim.run_until(us(700)).is_ok());
-        sim
-    };
+    let build = six_slaves_at_700_us;
     // 16 Mbit/s (the ring's rate): 62.5 ns a bit.
     let bit = Duration::from_picos(62_500);
     let bits_at = |start: Instant, n: usize, bit: Duration| {
@@ -467,4 +449,16 @@ fn a_swept_delivery_is_deliver_s_own() {
             "{what}: registers and RAM after"
         );
     }
+}
+
+/// [`six_slaves`] built and run to 700 µs (steady, with ATs on the way).
+fn six_slaves_at_700_us() -> super::Simulation {
+    let Ok((cfg, hosts, _)) = six_slaves().build() else {
+        panic!("the ring fits");
+    };
+    let Ok(mut sim) = super::Simulation::new(cfg, hosts) else {
+        panic!("the simulation builds");
+    };
+    assert!(sim.run_until(us(700)).is_ok());
+    sim
 }
