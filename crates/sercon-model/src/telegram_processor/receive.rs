@@ -324,14 +324,16 @@ fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHead, bytes: &[u8], fcs_ok
         rscend(chip);
         return;
     }
-    store(chip, at, &h, bytes);
+    // DMA and DBUF (410B §4.2.1) read once: the writes below change VAL, RERR and ADR only.
+    let buffering = hdr.buffering();
+    store(chip, at, &h, buffering, bytes);
     if !hdr.achk() && adr != hdr.adr() {
         // 410B §4.2.1 ACHK = 0: "The received address is stored at ADR"; 5H.15
         // INT_NEWADR "address change" (spec-notes).
         h = h.with_adr(adr);
         chip.engine.flags.hi |= INT_NEWADR;
     }
-    let val = match h.buffering() {
+    let val = match buffering {
         // 410B §4.2.1 VAL, double buffer: the buffer just written becomes the valid one.
         Buffering::Double => !hdr.val(),
         _ => true,
@@ -352,12 +354,25 @@ fn rscend(chip: &mut Chip) {
 
 /// Stores the data of a good telegram container by container (410B §4.2.2 POS: "Position
 /// of the data block within the telegram in number of words").
-fn store(chip: &mut Chip, at: u16, h: &RxHead, bytes: &[u8]) {
-    let buffering = h.buffering();
+fn store(chip: &mut Chip, at: u16, h: &RxHead, buffering: Buffering, bytes: &[u8]) {
+    debug_assert_eq!(buffering, h.buffering());
     if let Some(c) = walk_memo::kept(chip, at, HeaderKind::Receive, buffering) {
         // Walked before under the layout proof that still stands: the same container, no
         // walk error (`walk_memo`).
-        let ends = store_list(chip, h, bytes, std::slice::from_ref(&c));
+        if buffering != Buffering::Dma && !c.control.svfl {
+            #[cfg(debug_assertions)]
+            let general = {
+                let mut general = chip.clone();
+                let ends = store_list(&mut general, h, buffering, bytes, &[c]);
+                store_errors(&mut general, None, ends);
+                general
+            };
+            store_kept(chip, &c, h, buffering, bytes);
+            #[cfg(debug_assertions)]
+            check_kept_store(chip, &general);
+            return;
+        }
+        let ends = store_list(chip, h, buffering, bytes, std::slice::from_ref(&c));
         store_errors(chip, None, ends);
         return;
     }
@@ -383,7 +398,7 @@ fn store(chip: &mut Chip, at: u16, h: &RxHead, bytes: &[u8]) {
             first.as_slice(),
             walk_error,
         );
-        let ends = store_list(chip, h, bytes, first.as_slice());
+        let ends = store_list(chip, h, buffering, bytes, first.as_slice());
         store_errors(chip, walk_error, ends);
         return;
     }
@@ -397,9 +412,56 @@ fn store(chip: &mut Chip, at: u16, h: &RxHead, bytes: &[u8]) {
         list.push(c);
     }
     let walk_error = walk.error;
-    let ends = store_list(chip, h, bytes, &list);
+    let ends = store_list(chip, h, buffering, bytes, &list);
     chip.tp.containers = list;
     store_errors(chip, walk_error, ends);
+}
+
+/// [`store`] of a good telegram whose one container `c` is kept (`walk_memo`: no walk
+/// error) and is no service container, buffered in the RAM (410B §4.2.1 DMA = 0): its LEN
+/// words from word POS of the telegram's data (410B §4.2.2) written in place into the buffer
+/// that is not valid (410B §4.2.1 VAL, DBUF; the one buffer when DBUF = 0); a container
+/// reaching past the data is a container overrun, nothing stored (as [`store_list`]).
+#[inline(always)]
+fn store_kept(
+    chip: &mut Chip,
+    c: &walk::Container,
+    h: &RxHead,
+    buffering: Buffering,
+    bytes: &[u8],
+) {
+    let pos = usize::from(c.pos);
+    let len = usize::from(c.control.len);
+    let data = bytes.get(1..).unwrap_or(&[]);
+    let Some(src) = data.get(2 * pos..2 * (pos + len)) else {
+        // An empty container always lies inside the data (and writes nothing).
+        if len != 0 {
+            prog_error(chip, ProgErr::ContainerOverrun);
+        }
+        return;
+    };
+    let dst = c.buffer(buffering, !h.val());
+    match walk::words_mut(&mut chip.ram, dst, len) {
+        Some(ram) => copy_le_words(ram, src),
+        // Only the words inside the RAM are written (the walk keeps containers inside).
+        None => {
+            for (i, w) in le_words(src).enumerate() {
+                walk::set_word(&mut chip.ram, dst + i as u32, w);
+            }
+        }
+    }
+    super::output_bound::data_written(chip, dst, len);
+}
+
+/// Debug builds: the chip after [`store_kept`] is `general`, the chip the general store
+/// ([`store_list`] with the kept container) left.
+#[cfg(debug_assertions)]
+fn check_kept_store(chip: &Chip, general: &Chip) {
+    debug_assert_eq!(
+        format!("{general:?}"),
+        format!("{chip:?}"),
+        "a kept container's telegram stored the short way"
+    );
 }
 
 /// The programming errors a store ran into: the walk's own, then a container outside the
@@ -423,9 +485,14 @@ fn store_errors(chip: &mut Chip, walk_error: Option<ProgErr>, ends: (bool, bool)
 // Inlined at its three calls (LLVM kept it out of line with `#[inline]`): the call's own
 // cost (register saves, arguments) was about a third of a one-container store.
 #[inline(always)]
-fn store_list(chip: &mut Chip, h: &RxHead, bytes: &[u8], list: &[walk::Container]) -> (bool, bool) {
+fn store_list(
+    chip: &mut Chip,
+    h: &RxHead,
+    buffering: Buffering,
+    bytes: &[u8],
+    list: &[walk::Container],
+) -> (bool, bool) {
     let variant = chip.cfg.variant;
-    let buffering = h.buffering();
     let data = bytes.get(1..).unwrap_or(&[]);
     let mut overrun = false;
     let mut fifo_overrun = false;
@@ -459,13 +526,12 @@ fn store_list(chip: &mut Chip, h: &RxHead, bytes: &[u8], list: &[walk::Container
             // straight from the telegram (the record only for a service container).
             _ => {
                 let dst = c.buffer(buffering, !h.val());
-                let words = le_words(src);
                 match walk::words_mut(&mut chip.ram, dst, len) {
-                    Some(ram) => ram.iter_mut().zip(words).for_each(|(r, w)| *r = w),
+                    Some(ram) => copy_le_words(ram, src),
                     // Only the words inside the RAM are written (the walk keeps containers
                     // inside).
                     None => {
-                        for (i, w) in words.enumerate() {
+                        for (i, w) in le_words(src).enumerate() {
                             walk::set_word(&mut chip.ram, dst + i as u32, w);
                         }
                     }
@@ -500,6 +566,13 @@ fn le_words(bytes: &[u8]) -> impl Iterator<Item = u16> + '_ {
         [lo, hi] => u16::from_le_bytes([*lo, *hi]),
         _ => 0,
     })
+}
+
+/// Writes the little-endian words of `src` (410B §4.2.2) over `ram`, as many as both hold
+/// (whole pairs only).
+#[inline(always)]
+fn copy_le_words(ram: &mut [u16], src: &[u8]) {
+    ram.iter_mut().zip(le_words(src)).for_each(|(r, w)| *r = w);
 }
 
 /// Service containers of an errored or missing telegram record RECERR (410B §4.2.4).
