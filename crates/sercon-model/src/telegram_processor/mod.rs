@@ -159,7 +159,15 @@ pub(crate) trait HeaderWord0: Copy {
     /// Where the telegram's data lives (410B §4.2.2: DMA, DBUF).
     #[inline]
     fn buffering(self) -> sercon_regs::ram::header::Buffering {
-        sercon_regs::ram::header::Buffering::from_bits(self.dma(), self.dbuf())
+        use sercon_regs::ram::header::Buffering;
+        // DMA and DBUF (0.8, 0.9) read as one 2-bit field: DMA = 1 is DMA whatever DBUF.
+        let b = match (self.w0() >> 8) & 3 {
+            0 => Buffering::Single,
+            2 => Buffering::Double,
+            _ => Buffering::Dma,
+        };
+        debug_assert_eq!(b, Buffering::from_bits(self.dma(), self.dbuf()));
+        b
     }
 }
 
