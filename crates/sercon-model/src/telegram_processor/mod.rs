@@ -544,10 +544,25 @@ pub(crate) fn first_frame_tick(chip: &Chip) -> Option<u64> {
     chip.tp.rx_queue.front().map(|(tick, _)| *tick)
 }
 
-/// The next tick at which the telegram processor acts.
+/// The next tick at which the telegram processor acts: its other events' and the frame
+/// in progress's end or, with none in progress, the first queued frame's start
+/// ([`first_frame_tick`]): [`TelegramProcessor::next_tick_with`] in one comparison.
 pub(crate) fn next_tick(chip: &Chip) -> Option<u64> {
-    chip.tp
-        .next_tick_with(first_frame_tick(chip), chip.engine.s.int_out_lo)
+    let tp = &chip.tp;
+    let others = tp.next_tick_but_rx(chip.engine.s.int_out_lo);
+    let frame = match &tp.rx_now {
+        Some(r) => Some(r.end_tick),
+        None => tp.rx_queue.front().map(|(tick, _)| *tick),
+    };
+    let next = match (others, frame) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    };
+    debug_assert_eq!(
+        next,
+        tp.next_tick_with(first_frame_tick(chip), chip.engine.s.int_out_lo)
+    );
+    next
 }
 
 /// A communication cycle started at `tick` (timing control): a master sends the MST and
