@@ -183,8 +183,15 @@ impl Chip {
         if !self.in_reset {
             if let Some(core) = self.next_core {
                 debug_assert_eq!(core, self.compute_next_core(), "stale next_core");
-                let next = earliest(core, self.serial_next_loud_event());
-                if next.is_none_or(|n| n > t) {
+                // Nothing due up to `t`: neither the core's next instant nor the serial port's
+                // (the port asked only when the core has nothing due).
+                let quiet_up_to_t = core.is_none_or(|c| c > t)
+                    && self.serial_next_loud_event().is_none_or(|a| a > t);
+                debug_assert_eq!(
+                    quiet_up_to_t,
+                    earliest(core, self.serial_next_loud_event()).is_none_or(|n| n > t)
+                );
+                if quiet_up_to_t {
                     // Nothing due up to `t` but levels of untraced serial-port pins and a
                     // quiet cycle end.
                     self.serial_apply_pin_levels(t);
