@@ -91,12 +91,28 @@ impl Simulation {
         debug_assert!(node.expect.is_empty(), "a copy expected on the fast path");
         // `route_output`: the output after the AT, its start in simulation time, the floor.
         node.resume = if seg.then_filler { None } else { seg.end() };
+        // `Node::put_out` on the fast path (no levels followed): the line taken to its end.
+        debug_assert!(!node.track_levels, "levels followed on the fast path");
+        // On the simulation's clock `map_released` keeps the start (and the end). A faulty
+        // ring looks for steady receivers before the pass (`count_steady_receivers`): the
+        // general way.
+        if !self.faulty
+            && node.clock.is_identity()
+            && let Some(end) = seg.end()
+            && self.send_through(j, &mut seg, end)
+        {
+            if self.nodes.first().is_some_and(|m| m.powered) {
+                self.deliver(0, seg, j, false);
+            }
+            return;
+        }
+        let Some(node) = self.nodes.get_mut(j) else {
+            return;
+        };
         let Some(mut floor) = self.out_floors.get(j) else {
             return;
         };
         node.map_released(&mut seg, floor);
-        // `Node::put_out` on the fast path (no levels followed): the line taken to its end.
-        debug_assert!(!node.track_levels, "levels followed on the fast path");
         let end = seg.end();
         let before = floor;
         let cut = seg.start < floor;
@@ -127,6 +143,69 @@ impl Simulation {
         if self.nodes.first().is_some_and(|m| m.powered) {
             self.deliver(0, seg, j, false);
         }
+    }
+
+    /// [`Simulation::send_on_plain`] of slave `j`'s telegram `seg` (its chip's time; on the
+    /// simulation's clock `map_released` keeps its start; ending at `end`) where its own
+    /// floor and the plain repeaters after it, up to the master, are one offset above the
+    /// hops (`OutFloors::send_through`): the floor set and the pass in one step, without
+    /// the floor read, the split of the uniform run and the run's look-ups of each (410B
+    /// §1: the slaves repeat it by their hops); the caller delivers it. Returns whether it
+    /// was so (`false`: nothing changed, the general way follows). The pass is kept
+    /// (`plain_pass`) as `pass_plain_ending` keeps it; its floor needs no
+    /// `floor_written`, the new pass replacing the last.
+    #[inline]
+    fn send_through(&mut self, j: usize, seg: &mut LineSegment, end: Instant) -> bool {
+        let n = self.nodes.len();
+        let first = j + 1;
+        if self.run_end.get(first) != Some(&n) {
+            return false;
+        }
+        let (Some(plain), Some(delay)) = (self.plain_hop.get(first..n), self.seg_delays.get(n - 1))
+        else {
+            return false;
+        };
+        let delay = *delay;
+        let len = end.saturating_duration_since(seg.start);
+        let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        let crossing = super::out_floors::Crossing {
+            start: seg.start,
+            len,
+            lat,
+        };
+        #[cfg(debug_assertions)]
+        let walked = self.walk_to_master(j, seg);
+        let Some((before, out, held)) = self.out_floors.send_through(j, end, plain, n, crossing)
+        else {
+            return false;
+        };
+        let Some(node) = self.nodes.get_mut(j) else {
+            return false;
+        };
+        if seg.start < before && before > node.chip_out_end {
+            // It cut a telegram the fast path put out ahead of the chip (`route_output`).
+            self.stats.fast_path_collisions += 1;
+        }
+        node.chip_out_end = end;
+        if held {
+            // A telegram held behind another at a repeater's output (`repeat_out`).
+            self.stats.fast_path_collisions += 1;
+        }
+        // `out + len` is below the prefix sums' safe bound (`send_through`): no sum
+        // saturated, the pass is kept as `pass_plain_ending` keeps it.
+        self.plain_pass = Some(super::plain_pass::PlainPass {
+            entry: j,
+            start_in: seg.start,
+            len,
+            lat,
+            start_out: out,
+            run: n - first,
+        });
+        seg.start = out.saturating_add(delay);
+        seg.distorted = false;
+        #[cfg(debug_assertions)]
+        debug_assert_eq!(Some(seg.start), walked, "an AT's way to the master");
+        true
     }
 
     /// Debug builds: where `seg`, put out by slave `j`, reaches the master when every hop

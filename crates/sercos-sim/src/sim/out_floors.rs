@@ -250,6 +250,76 @@ impl OutFloors {
         (out, held)
     }
 
+    /// A slave's own telegram put out by node `j` and carried through the plain repeaters
+    /// `j + 1..to` (their fibre delays `plain`): [`OutFloors::set`] of `j`'s floor to
+    /// `left` then [`OutFloors::pass`] of `seg` (which enters at `j`'s output) in one step,
+    /// where both run inside the uniform run (410B §1: the repeaters repeat it by their
+    /// hops). Returns `j`'s floor before, the segment's start after the run and whether a
+    /// floor held it up; `None` (nothing changed) where the uniform run does not cover
+    /// `j..to`, the prefix sums are for another latency or a sum could saturate: then the
+    /// caller sets and passes as usual. Debug builds compare it with `set` and `pass`.
+    #[inline]
+    pub(super) fn send_through(
+        &mut self,
+        j: usize,
+        left: Instant,
+        plain: &[u64],
+        to: usize,
+        seg: Crossing,
+    ) -> Option<(Instant, Instant, bool)> {
+        let u = self.uniform?;
+        if self.prefix_lat != Some(seg.lat) || u.from > j || to > u.to || j + 1 >= to {
+            return None;
+        }
+        let (Some(q_in), Some(q_out)) = (self.prefix.get(j), self.prefix.get(to - 1)) else {
+            return None;
+        };
+        let before = u64::try_from(q_in + u.offset).ok()?;
+        let offset = i128::from(seg.start.as_picos()) - q_in;
+        let reached = offset.max(u.offset);
+        let len_ps = i128::from(seg.len.as_picos());
+        let out = reached + q_out;
+        if out + len_ps >= SAFE_PS {
+            return None;
+        }
+        #[cfg(debug_assertions)]
+        let general = {
+            debug_assert_eq!(self.get(j), Some(Instant::from_picos(before)), "floor {j}");
+            let mut f = self.clone();
+            f.set(j, left);
+            let got = f.pass(plain, j + 1..to, seg, |_, _, s| (s, 0));
+            (f, got)
+        };
+        #[cfg(not(debug_assertions))]
+        let _ = plain;
+        // `set`: the floors before `j` written out, `j`'s its own.
+        self.write_range(u, u.from, j);
+        if let Some(f) = self.floors.get_mut(j) {
+            *f = left;
+        }
+        // `pass`: one offset above the hops after it (floors after the run keep the old).
+        self.write_range(u, to, u.to);
+        self.uniform = Some(Uniform {
+            from: j + 1,
+            to,
+            offset: reached + len_ps,
+        });
+        self.ceiling = None;
+        let got = (
+            Instant::from_picos(u64::try_from(out).unwrap_or(0)),
+            u.offset > offset,
+        );
+        #[cfg(debug_assertions)]
+        {
+            let (f, want) = general;
+            debug_assert_eq!(got, want, "a telegram sent through in one step");
+            for m in 0..self.floors.len() {
+                debug_assert_eq!(self.get(m), f.get(m), "floor {m} after a send-through");
+            }
+        }
+        Some((Instant::from_picos(before), got.0, got.1))
+    }
+
     /// Starts a sweep: a segment carried hop by hop through repeaters in ring order (a
     /// master's segment round a plain ring), whose floors are read and written one by one
     /// ([`OutFloors::swept`], [`OutFloors::sweep_set`]) and kept as one run at its end where
@@ -443,6 +513,7 @@ mod tests {
     fn same_as_walking_every_hop() {
         let mut uniform_passes = 0;
         let mut free_sweeps = 0;
+        let mut sent_through = 0;
         for seed in 0..200 {
             let mut rng = Lcg(seed);
             let n = 2 + rng.next(12) as usize;
@@ -452,7 +523,7 @@ mod tests {
             let mut now = 0u64;
             for step in 0..300 {
                 now += rng.next(40_000);
-                match rng.next(5) {
+                match rng.next(6) {
                     0 => {
                         let m = rng.next(n as u64) as usize;
                         let v = Instant::from_picos(now + rng.next(90_000));
@@ -505,6 +576,51 @@ mod tests {
                             fast.close_sweep(first..end, uniform);
                         }
                     }
+                    5 => {
+                        // A slave's own telegram: its floor set, then passed on through the
+                        // repeaters after it (`send_on_plain`), in one step where it may be.
+                        // Often at the uniform run's start and up to the master, as the ATs
+                        // go one after the other round a ring.
+                        let j = match fast.uniform {
+                            Some(u) if u.from >= 1 && u.from < n && rng.next(2) == 0 => u.from,
+                            _ => 1 + rng.next(n as u64 - 1) as usize,
+                        };
+                        let to = if rng.next(2) == 0 {
+                            n
+                        } else {
+                            j + 1 + rng.next((n - j) as u64) as usize
+                        };
+                        let start = Instant::from_picos(now);
+                        let len = Duration::from_picos(rng.next(3) * rng.next(200_000));
+                        let lat =
+                            Duration::from_picos(if rng.next(20) == 0 { 250_000 } else { 125_000 });
+                        let left = start.saturating_add(len);
+                        let plain = delays.get(j + 1..to).unwrap_or(&[]);
+                        let seg = Crossing { start, len, lat };
+                        let before = slow[j];
+                        slow[j] = left;
+                        let want = reference(plain, &mut slow[j + 1..to], start, lat, len);
+                        if let Some((floor, got, held)) = fast.send_through(j, left, plain, to, seg)
+                        {
+                            sent_through += 1;
+                            assert_eq!(floor, before, "seed {seed} step {step} floor before");
+                            assert_eq!(got, want.0, "seed {seed} step {step} sent through");
+                            let free = plain.iter().fold(start, |a, d| {
+                                a.saturating_add(Duration::from_picos(*d))
+                                    .saturating_add(lat)
+                            });
+                            assert_eq!(held, got > free, "seed {seed} step {step} held");
+                        } else {
+                            assert_eq!(fast.get(j), Some(before), "seed {seed} step {step}");
+                            fast.set(j, left);
+                            if j + 1 < to {
+                                let (got, _) = fast.pass(plain, j + 1..to, seg, |p, f, s| {
+                                    reference(p, f, s, lat, len)
+                                });
+                                assert_eq!(got, want.0, "seed {seed} step {step}");
+                            }
+                        }
+                    }
                     _ => {
                         let first = 1 + rng.next(n as u64 - 1) as usize;
                         let end = first + 1 + rng.next((n - first) as u64) as usize;
@@ -541,5 +657,6 @@ mod tests {
         }
         assert!(uniform_passes > 1_000, "{uniform_passes}");
         assert!(free_sweeps > 1_000, "{free_sweeps}");
+        assert!(sent_through > 300, "{sent_through}");
     }
 }

@@ -22,17 +22,17 @@ use super::{NOT_PLAIN, Simulation};
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) struct PlainPass {
     /// The fibre it entered the run on (`*cur` of [`Simulation::pass_plain`]).
-    entry: usize,
+    pub(super) entry: usize,
     /// Its start at that fibre's entrance.
-    start_in: Instant,
+    pub(super) start_in: Instant,
     /// Its length (zero for a steady signal).
-    len: Duration,
+    pub(super) len: Duration,
     /// The repeater latency it was carried with.
-    lat: Duration,
+    pub(super) lat: Duration,
     /// Its start after the run.
-    start_out: Instant,
+    pub(super) start_out: Instant,
     /// Repeaters in the run.
-    run: usize,
+    pub(super) run: usize,
 }
 
 /// Carries a segment starting at `start` (`len` long) through the plain repeaters whose
