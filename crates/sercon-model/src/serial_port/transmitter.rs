@@ -192,7 +192,15 @@ impl Transmitter {
     /// [`Transmitter::tail`]); the rest as [`Transmitter::queue_background`].
     /// Debug builds compare the transmitter with one given the copy the general way.
     #[inline(always)]
-    pub(crate) fn push_carried(&mut self, seg: &LineSegment, latency_bits: u64) {
+    ///
+    /// `follows`: the start of the receiver's last segment when `seg` was taken to the level
+    /// that segment leaves the line at (`Chip::line_input_at_level`, a bits segment).
+    pub(crate) fn push_carried(
+        &mut self,
+        seg: &LineSegment,
+        latency_bits: u64,
+        follows: Option<Instant>,
+    ) {
         debug_assert!(self.carried_forwarding);
         #[cfg(debug_assertions)]
         let general = {
@@ -204,7 +212,7 @@ impl Transmitter {
             });
             format!("{general:?}")
         };
-        self.push_carried_in_place(seg, latency_bits);
+        self.push_carried_in_place(seg, latency_bits, follows);
         #[cfg(debug_assertions)]
         debug_assert_eq!(
             general,
@@ -215,10 +223,14 @@ impl Transmitter {
 
     /// [`Transmitter::push_carried`] without its check.
     #[inline(always)]
-    fn push_carried_in_place(&mut self, seg: &LineSegment, latency_bits: u64) {
-        let start = seg
-            .start
-            .saturating_add(seg.bit_time.saturating_mul(latency_bits));
+    fn push_carried_in_place(
+        &mut self,
+        seg: &LineSegment,
+        latency_bits: u64,
+        follows: Option<Instant>,
+    ) {
+        let latency = seg.bit_time.saturating_mul(latency_bits);
+        let start = seg.start.saturating_add(latency);
         let copy = || LineSegment {
             start,
             bit_time: seg.bit_time,
@@ -246,8 +258,20 @@ impl Transmitter {
                 && b.carried
                 && b.seg.start < start
             {
-                // The merge (`queue_background`).
-                let inv = chained_inversion(&b.seg, start, seg);
+                // The merge (`queue_background`). When the queued copy is the copy of the
+                // receiver's last segment and `seg` starts from the level that one leaves
+                // (410B §1 repeater: the copy is the received signal, delayed), the level
+                // the copy leaves at `start` is `seg`'s level before: the chained inversion
+                // is the copy's own.
+                let inv = if follows.is_some_and(|last| last.saturating_add(latency) == b.seg.start)
+                    && matches!(seg.signal, LineSignal::Bits(_))
+                {
+                    let inv = single_inv(&b.seg);
+                    debug_assert_eq!(inv, chained_inversion(&b.seg, start, seg));
+                    inv
+                } else {
+                    chained_inversion(&b.seg, start, seg)
+                };
                 // `tail` is empty (above): set without a drop of what it held.
                 self.tail.get_or_insert_with(|| (copy(), inv));
                 debug_assert_eq!(self.next_release, self.compute_next_release());
@@ -944,6 +968,67 @@ mod tests {
         .then(|| (own.start, own.end(), own.bit_time))
     }
 
+    /// The merge's inversion taken as the queued copy's own (`push_carried`'s `follows`) only
+    /// when the queued copy is the copy of the segment `follows` names: with a copy of
+    /// another segment queued, the chained inversion is kept (debug builds check it), and
+    /// the merge ends as the general push's (410B §1 repeater; spec-notes "Merged carried
+    /// copies").
+    #[test]
+    fn a_merge_after_another_copy_chains_its_inversion() {
+        let bt = Duration::from_picos(BT);
+        let at = |bits: u64| Instant::from_picos(bits * BT);
+        let mut bits = BitVec::new();
+        for i in 0..20 {
+            bits.push(i % 3 == 0);
+        }
+        let first = LineSegment {
+            then_filler: true,
+            ..LineSegment::bits(at(10), bt, bits.clone(), false)
+        };
+        // The receiver's last segment (starting at 20) is not `first`; `seg` starts from
+        // the level other than the one `first`'s copy leaves at its start.
+        let seg_at = at(100);
+        let level = !first.level_at(seg_at);
+        for follows in [None, Some(at(20)), Some(at(10))] {
+            let mut tx = Transmitter {
+                carried_forwarding: true,
+                ..Transmitter::default()
+            };
+            tx.push_carried(&first, 0, None);
+            let seg = LineSegment {
+                then_filler: true,
+                ..LineSegment::bits(seg_at, bt, bits.clone(), level)
+            };
+            let mut general = tx.clone();
+            general.push_forwarded(LineSegment {
+                distorted: false,
+                ..seg.without_hint()
+            });
+            if follows == Some(at(10)) {
+                // `follows` names `first`: the level is the copy's (the caller's promise).
+                let seg = LineSegment {
+                    then_filler: true,
+                    ..LineSegment::bits(seg_at, bt, bits.clone(), !level)
+                };
+                let mut general = tx.clone();
+                general.push_forwarded(LineSegment {
+                    distorted: false,
+                    ..seg.without_hint()
+                });
+                tx.push_carried(&seg, 0, follows);
+                assert_eq!(format!("{tx:?}"), format!("{general:?}"));
+                continue;
+            }
+            tx.push_carried(&seg, 0, follows);
+            assert!(tx.tail.is_some(), "the copy is merged");
+            assert_eq!(
+                format!("{tx:?}"),
+                format!("{general:?}"),
+                "follows {follows:?}"
+            );
+        }
+    }
+
     /// A merged copy behind a resumed rest (a shadowed telegram resumed at its next bit
     /// boundary, queued before the merged entry): the rest is released, then the copies are
     /// followed, as with the queue of separate copies (spec-notes "Merged carried copies").
@@ -1112,7 +1197,7 @@ mod tests {
                         plain.push_forwarded(seg.clone());
                         plain.split_merged();
                         // Built in place (the repeater's latency left out).
-                        tx.push_carried(&seg, 0);
+                        tx.push_carried(&seg, 0, None);
                     }
                     Op::Background { off, filler } => {
                         let signal = if filler { LineSignal::Filler } else { LineSignal::Dark };
