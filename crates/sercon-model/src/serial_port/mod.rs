@@ -241,12 +241,6 @@ impl SerialPort {
         if AT_LEVEL && self.rx.off_line_level(&seg) {
             seg.invert();
         }
-        // `seg` now starts from the level the receiver's last segment leaves at its start.
-        let follows = if AT_LEVEL {
-            self.rx.last_segment().map(|s| s.start)
-        } else {
-            None
-        };
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
         let mut fwd = None;
         if self.cfg.tx_mode == TxMode::Repeat {
@@ -256,6 +250,13 @@ impl SerialPort {
                 // inverted (the polarities agree), it is built where it is queued (the
                 // receiver reads nothing of the transmitter: queued before the input as
                 // after it).
+                // With `AT_LEVEL`, `seg` starts from the level the receiver's last segment
+                // leaves at its start (above).
+                let follows = if AT_LEVEL {
+                    self.rx.last_segment().map(|s| s.start)
+                } else {
+                    None
+                };
                 self.tx.push_carried(&seg, REPEATER_LATENCY_BITS, follows);
             } else if self.tx.carried_forwarding {
                 fwd = Some(self.forwarded(seg.without_hint()));
