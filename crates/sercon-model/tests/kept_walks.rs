@@ -54,23 +54,39 @@ fn run(ask: bool, at: Instant, until: Instant, write: fn(&mut [Chip; 2])) -> [Ve
     })
 }
 
+/// Runs the pair with `write` applied at 300 µs, up to 700 µs, with the layout proof asked for
+/// and without (the general paths): both leave the same RAM and registers; returns them.
+fn kept_as_plain(write: fn(&mut [Chip; 2])) -> [Vec<u16>; 2] {
+    let at = Instant::ZERO + Duration::from_micros(300);
+    let until = Instant::ZERO + Duration::from_micros(700);
+    let kept = run(true, at, until, write);
+    let plain = run(false, at, until, write);
+    assert_eq!(kept, plain);
+    kept
+}
+
+/// Makes the container whose control word is RAM word `word` of chip `s` service container 0
+/// (410B §4.2.2 SVFL; its words from 256 on: SCPT0, RAM word 2, clear of the headers and
+/// containers the layout proof reads).
+fn service_container_at(s: &mut Chip, word: u16) {
+    s.write_ram(2, 256);
+    let svc = ContainerControl::new(8, true, 0, false, true).map_or(0, |c| c.to_word());
+    s.write_ram(word, svc);
+}
+
 // 410B §4.2.2 LEN, POS: the slave's MDT container (control words 21, 22) and the master's
 // AT container (34, 35) move within their telegrams, the slave's AT container (35) gets
 // shorter (the rest of its telegram is sent as 0, 410B §4.2.1 TLEN), after several cycles
 // stored and sent with the walks kept.
 #[test]
 fn a_host_write_to_the_containers_is_followed_by_the_kept_walks() {
-    let at = Instant::ZERO + Duration::from_micros(300);
-    let until = Instant::ZERO + Duration::from_micros(700);
     let write = |pair: &mut [Chip; 2]| {
         let [m, s] = pair;
         s.write_ram_words(21, &[control(4), 2]);
         s.write_ram(35, control(4));
         m.write_ram_words(34, &[control(5), 3]);
     };
-    let kept = run(true, at, until, write);
-    let plain = run(false, at, until, write);
-    assert_eq!(kept, plain);
+    let kept = kept_as_plain(write);
     let [m, s] = &kept;
     // The slave stored MDT words 2..6 (the master sends 0xF000 + i) from word 23 on.
     assert_eq!(s[23..27], [0xF002, 0xF003, 0xF004, 0xF005]);
@@ -103,15 +119,11 @@ fn slave_at_word0(dma: bool) -> u16 {
 // only: allowed for DMA it sends the RAM's words (this test fails, release builds too).
 #[test]
 fn a_dma_telegram_with_its_walk_kept_is_sent_from_the_fifo() {
-    let at = Instant::ZERO + Duration::from_micros(300);
-    let until = Instant::ZERO + Duration::from_micros(700);
     let write = |pair: &mut [Chip; 2]| {
         let [_, s] = pair;
         s.write_ram(31, slave_at_word0(true));
     };
-    let kept = run(true, at, until, write);
-    let plain = run(false, at, until, write);
-    assert_eq!(kept, plain);
+    let kept = kept_as_plain(write);
     let [m, s] = &kept;
     assert_eq!(s[31], slave_at_word0(true), "the header as written");
     // The master stored the AT's 8 words from word 36 on: zeros from the empty FIFO.
@@ -126,19 +138,11 @@ fn a_dma_telegram_with_its_walk_kept_is_sent_from_the_fifo() {
 // unwritten (debug builds: the comparison with the general assembly fails).
 #[test]
 fn a_service_container_with_its_walk_kept_is_filled_in() {
-    let at = Instant::ZERO + Duration::from_micros(300);
-    let until = Instant::ZERO + Duration::from_micros(700);
     let write = |pair: &mut [Chip; 2]| {
         let [_, s] = pair;
-        // Service container 0's words from 256 on (SCPT0, RAM word 2), clear of the
-        // headers and containers the layout proof reads.
-        s.write_ram(2, 256);
-        let svc = ContainerControl::new(8, true, 0, false, true).map_or(0, |c| c.to_word());
-        s.write_ram(35, svc);
+        service_container_at(s, 35);
     };
-    let kept = run(true, at, until, write);
-    let plain = run(false, at, until, write);
-    assert_eq!(kept, plain);
+    kept_as_plain(write);
 }
 
 /// The master's AT header (word 0 at 29, `pair_setup::rx_block`) as `rx_block` writes it but
@@ -165,16 +169,12 @@ fn master_at_word0(dma: bool) -> u16 {
 // over the RAM words after the container (this test fails, release builds too).
 #[test]
 fn a_dma_telegram_received_with_its_walk_kept_goes_to_the_fifo() {
-    let at = Instant::ZERO + Duration::from_micros(300);
-    let until = Instant::ZERO + Duration::from_micros(700);
     let write = |pair: &mut [Chip; 2]| {
         let [m, _] = pair;
         m.write_ram(29, master_at_word0(true));
         m.write_ram_words(36, &[0; 8]);
     };
-    let kept = run(true, at, until, write);
-    let plain = run(false, at, until, write);
-    assert_eq!(kept, plain);
+    let kept = kept_as_plain(write);
     let [m, _] = &kept;
     assert_eq!(m[36..44], [0; 8], "no AT word stored in the RAM");
 }
@@ -187,19 +187,11 @@ fn a_dma_telegram_received_with_its_walk_kept_goes_to_the_fifo() {
 // comparison with the general store fails).
 #[test]
 fn a_service_container_received_with_its_walk_kept_is_taken() {
-    let at = Instant::ZERO + Duration::from_micros(300);
-    let until = Instant::ZERO + Duration::from_micros(700);
     let write = |pair: &mut [Chip; 2]| {
         let [_, s] = pair;
-        // Service container 0's words from 256 on (SCPT0, RAM word 2), clear of the
-        // headers and containers the layout proof reads.
-        s.write_ram(2, 256);
-        let svc = ContainerControl::new(8, true, 0, false, true).map_or(0, |c| c.to_word());
-        s.write_ram(21, svc);
+        service_container_at(s, 21);
     };
-    let kept = run(true, at, until, write);
-    let plain = run(false, at, until, write);
-    assert_eq!(kept, plain);
+    kept_as_plain(write);
 }
 
 // 410B §4.2.2 LEN, POS: an empty container stores nothing wherever its POS points, past the
@@ -208,15 +200,11 @@ fn a_service_container_received_with_its_walk_kept_is_taken() {
 // PROGERR_FL and INT_PROGERR, release builds too).
 #[test]
 fn an_empty_container_past_the_data_with_its_walk_kept_is_no_overrun() {
-    let at = Instant::ZERO + Duration::from_micros(300);
-    let until = Instant::ZERO + Duration::from_micros(700);
     let write = |pair: &mut [Chip; 2]| {
         let [m, _] = pair;
         m.write_ram_words(34, &[control(0), 20]);
     };
-    let kept = run(true, at, until, write);
-    let plain = run(false, at, until, write);
-    assert_eq!(kept, plain);
+    let kept = kept_as_plain(write);
     let [m, _] = &kept;
     assert_eq!(m[1024 + 2], 0, "PROGERR_FL");
 }

@@ -440,7 +440,14 @@ fn store_kept(
         }
         return;
     };
-    let dst = c.buffer(buffering, !h.val());
+    write_buffer(chip, c.buffer(buffering, !h.val()), src, len);
+}
+
+/// Writes a container's words `src` (`len` of them, little-endian) to its buffer at `dst`
+/// in the RAM (410B §4.2.2: the buffer that is not valid), for [`store_kept`] and
+/// [`store_list`].
+#[inline(always)]
+fn write_buffer(chip: &mut Chip, dst: u32, src: &[u8], len: usize) {
     match walk::words_mut(&mut chip.ram, dst, len) {
         Some(ram) => copy_le_words(ram, src),
         // Only the words inside the RAM are written (the walk keeps containers inside).
@@ -525,18 +532,7 @@ fn store_list(
             // Double buffer: write the buffer that is not valid (VAL selects the valid one),
             // straight from the telegram (the record only for a service container).
             _ => {
-                let dst = c.buffer(buffering, !h.val());
-                match walk::words_mut(&mut chip.ram, dst, len) {
-                    Some(ram) => copy_le_words(ram, src),
-                    // Only the words inside the RAM are written (the walk keeps containers
-                    // inside).
-                    None => {
-                        for (i, w) in le_words(src).enumerate() {
-                            walk::set_word(&mut chip.ram, dst + i as u32, w);
-                        }
-                    }
-                }
-                super::output_bound::data_written(chip, dst, len);
+                write_buffer(chip, c.buffer(buffering, !h.val()), src, len);
                 if c.control.svfl {
                     let mut record = std::mem::take(&mut chip.tp.record);
                     record.clear();
