@@ -28,7 +28,11 @@
 //! On a plain ring's fast path (`plain_ring`, no replay) with the short paths on, each AT
 //! taken so goes its way to the master directly (`send_on_plain`: what `route_output` and
 //! `propagate` do with it there, without the checks that cannot hold on that way; debug
-//! builds compare its arrival with a hop-by-hop walk).
+//! builds compare its arrival with a hop-by-hop walk). Without faults the ATs of one pass go
+//! so one after the other (`send_all_plain`): the output floors' uniform run
+//! (`OutFloors::open_through`) is kept between them rather than looked up, checked and
+//! written back for each, as each AT leaves it one offset above the hops behind its slave
+//! (`sim/out_floors.rs` module notes).
 
 use sercon_model::serial_port::{LineSegment, LineSignal, REPEATER_LATENCY_BITS};
 use sercos_wire::time::{Duration, Instant};
@@ -49,20 +53,24 @@ impl Simulation {
                 && self.delivery == Delivery::Fast
                 && self.replay_to.is_none()
                 && !self.replay_copy;
-            for &j in &deferred {
-                let Some(node) = self.nodes.get_mut(j) else {
-                    continue;
-                };
-                let until = node.chip.now();
-                super::chip_calls::take(j, &mut node.chip, until, &mut out);
-                if plain
-                    && let [seg] = out.as_slice()
-                    && matches!(seg.signal, LineSignal::Bits(_))
-                    && let Some(seg) = out.pop()
-                {
-                    self.send_on_plain(j, seg);
-                } else {
-                    self.route_taken(j, &mut out);
+            if plain && !self.faulty {
+                self.send_all_plain(&deferred, &mut out);
+            } else {
+                for &j in &deferred {
+                    let Some(node) = self.nodes.get_mut(j) else {
+                        continue;
+                    };
+                    let until = node.chip.now();
+                    super::chip_calls::take(j, &mut node.chip, until, &mut out);
+                    if plain
+                        && let [seg] = out.as_slice()
+                        && matches!(seg.signal, LineSignal::Bits(_))
+                        && let Some(seg) = out.pop()
+                    {
+                        self.send_on_plain(j, seg);
+                    } else {
+                        self.route_taken(j, &mut out);
+                    }
                 }
             }
             self.buf = out;
@@ -73,6 +81,179 @@ impl Simulation {
         }
         deferred.clear();
         self.deferred = deferred;
+    }
+
+    /// The ATs of `deferred` (every slave once, in ring order: `deferred_may_go`) taken
+    /// and sent on, each as `send_on_plain` sends it, on a plain ring's fast path without
+    /// faults: the ATs of the slaves with repeaters after them sent through
+    /// (`send_through`) with the output floors' uniform run kept here from one to the next
+    /// (`OutFloors::open_through`; 410B §1: each AT follows the one before through the
+    /// repeaters, 410B §4.2.1 TRT), not looked up, checked and written back for each.
+    /// Anything else (a take of more than the AT, an AT of another bit rate, the last
+    /// slave's, a sum that could saturate) hands the run back and goes the general way.
+    // Out of line: inlined into `route_outputs` it cost ring-8 ≈ 180 instructions a cycle
+    // more (code layout).
+    #[inline(never)]
+    fn send_all_plain(&mut self, deferred: &[usize], out: &mut Vec<LineSegment>) {
+        let n = self.nodes.len();
+        let Some(&delay) = self.seg_delays.get(n.wrapping_sub(1)) else {
+            return;
+        };
+        let mut run = Run::default();
+        for &j in deferred {
+            let Some(node) = self.nodes.get_mut(j) else {
+                continue;
+            };
+            let until = node.chip.now();
+            super::chip_calls::take(j, &mut node.chip, until, out);
+            if let [seg] = out.as_slice()
+                && matches!(seg.signal, LineSignal::Bits(_))
+                && let Some(mut seg) = out.pop()
+            {
+                let sent = if j + 1 == n {
+                    self.send_last_in_run(&mut run, j, &mut seg, delay)
+                } else {
+                    self.send_in_run(&mut run, j, &mut seg, delay)
+                };
+                if sent {
+                    if self.nodes.first().is_some_and(|m| m.powered) {
+                        self.deliver(0, seg, j, false);
+                    }
+                    continue;
+                }
+                self.close_run(&mut run);
+                self.send_on_plain(j, seg);
+            } else {
+                self.close_run(&mut run);
+                self.route_taken(j, out);
+            }
+        }
+        self.close_run(&mut run);
+        // Debug builds: the pass kept stands (`plain_pass.rs` module notes: a filler right
+        // behind it reaches the end of its run where the pass says and changes no floor).
+        if cfg!(debug_assertions)
+            && let Some(p) = self.plain_pass
+        {
+            let (start, out) = (p.start_in, p.start_out);
+            self.debug_check_follower(
+                p.entry,
+                start.saturating_add(p.len),
+                p.lat,
+                out.saturating_add(p.len),
+                p.run,
+            );
+        }
+    }
+
+    /// Slave `j`'s AT `seg` (taken from its chip) sent on as `send_on_plain` and
+    /// `send_through` send it, within `run` (opened at the first AT): `seg` left at the
+    /// master's input, the caller delivers it. `false`: nothing changed (the run may be
+    /// open still; the caller closes it and goes the general way).
+    #[inline]
+    fn send_in_run(
+        &mut self,
+        run: &mut Run,
+        j: usize,
+        seg: &mut LineSegment,
+        delay: Duration,
+    ) -> bool {
+        let lat = seg.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        if !run.tried {
+            run.tried = true;
+            run.through = self.out_floors.open_through(j, lat);
+        }
+        let (Some(t), Some(node), Some(end)) =
+            (run.through.as_mut(), self.nodes.get_mut(j), seg.end())
+        else {
+            return false;
+        };
+        if t.next != j || t.lat != lat || !node.clock.is_identity() {
+            return false;
+        }
+        let len = end.saturating_duration_since(seg.start);
+        #[cfg(debug_assertions)]
+        let plain = self.plain_hop.get(j + 1..).unwrap_or(&[]);
+        #[cfg(not(debug_assertions))]
+        let plain = &[];
+        let Some((before, out, held)) = self.out_floors.through_next(t, end, seg.start, len, plain)
+        else {
+            return false;
+        };
+        debug_assert!(node.expect.is_empty(), "a copy expected on the fast path");
+        debug_assert!(!node.track_levels, "levels followed on the fast path");
+        // `send_on_plain`: the output after the AT.
+        node.resume = if seg.then_filler { None } else { Some(end) };
+        // `send_through`.
+        if seg.start < before && before > node.chip_out_end {
+            // It cut a telegram the fast path put out ahead of the chip (`route_output`).
+            self.stats.fast_path_collisions += 1;
+        }
+        node.chip_out_end = end;
+        if held {
+            // A telegram held behind another at a repeater's output (`repeat_out`).
+            self.stats.fast_path_collisions += 1;
+        }
+        run.pass = Some(super::plain_pass::PlainPass {
+            entry: j,
+            start_in: seg.start,
+            len,
+            lat,
+            start_out: out,
+            run: self.nodes.len() - j - 1,
+        });
+        seg.start = out.saturating_add(delay);
+        seg.distorted = false;
+        true
+    }
+
+    /// The last slave's AT `seg` (no repeater after it) as `send_on_plain` sends it, within
+    /// `run`, which it ends: its floor set, then straight over the last fibre into the
+    /// master (`seg` left at the master's input, the caller delivers it). `false`: nothing
+    /// changed (the caller closes the run and goes the general way).
+    #[inline]
+    fn send_last_in_run(
+        &mut self,
+        run: &mut Run,
+        j: usize,
+        seg: &mut LineSegment,
+        delay: Duration,
+    ) -> bool {
+        let (Some(t), Some(node), Some(end)) =
+            (run.through.as_mut(), self.nodes.get_mut(j), seg.end())
+        else {
+            return false;
+        };
+        if t.next != j || !node.clock.is_identity() {
+            return false;
+        }
+        let Some(before) = self.out_floors.through_last(t, end) else {
+            return false;
+        };
+        debug_assert!(node.expect.is_empty(), "a copy expected on the fast path");
+        debug_assert!(!node.track_levels, "levels followed on the fast path");
+        node.resume = if seg.then_filler { None } else { Some(end) };
+        if seg.start < before && before > node.chip_out_end {
+            // It cut a telegram the fast path put out ahead of the chip (`route_output`).
+            self.stats.fast_path_collisions += 1;
+        }
+        node.chip_out_end = end;
+        self.close_run(run);
+        // `send_on_plain`'s `set` of this floor: the last pass no longer stands if it
+        // covered it.
+        self.floor_written(j);
+        seg.start = seg.start.saturating_add(delay);
+        true
+    }
+
+    /// Hands the floors' run of `run` back (`OutFloors::close_through`) with the last pass
+    /// made in it kept (`plain_pass`, as `send_through` keeps it).
+    fn close_run(&mut self, run: &mut Run) {
+        if let Some(t) = run.through.take() {
+            self.out_floors.close_through(t);
+        }
+        if let Some(p) = run.pass.take() {
+            self.plain_pass = Some(p);
+        }
     }
 
     /// Slave `j`'s AT `seg` (its chip's time), taken from its chip, to the master, as
@@ -366,4 +547,15 @@ impl Simulation {
         }
         true
     }
+}
+
+/// The ATs sent through in one `route_deferred` (`Simulation::send_all_plain`).
+#[derive(Debug, Default)]
+struct Run {
+    /// Whether the floors' run was asked for (at the first AT).
+    tried: bool,
+    /// The floors' run, while open.
+    through: Option<super::out_floors::Through>,
+    /// The last pass made in it.
+    pass: Option<super::plain_pass::PlainPass>,
 }

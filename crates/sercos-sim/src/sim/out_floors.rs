@@ -48,6 +48,21 @@ struct Uniform {
     offset: i128,
 }
 
+/// The uniform run of [`OutFloors`] from slave `next` up to the master, kept by a caller
+/// that sends the slaves' telegrams through one after the other
+/// ([`OutFloors::open_through`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Through {
+    /// The slave whose telegram comes next (the run's first floor).
+    pub(super) next: usize,
+    /// The run's floors over the prefix sums.
+    offset: i128,
+    /// The prefix sum of the last repeater.
+    q_out: i128,
+    /// The repeater latency the prefix sums are for.
+    pub(super) lat: Duration,
+}
+
 /// The output floors of every node, some of them kept as one offset over a run.
 #[derive(Debug, Clone, Default)]
 pub(super) struct OutFloors {
@@ -320,6 +335,161 @@ impl OutFloors {
         Some((Instant::from_picos(before), got.0, got.1))
     }
 
+    /// Opens [`Through`]: the slaves' own telegrams from node `from` on, one slave after
+    /// the other in ring order, each sent through every repeater after it up to the master
+    /// (node 0, after the last floor) with latency `lat`, as [`OutFloors::send_through`]
+    /// sends each (410B §1: the repeaters repeat them by their hops), the uniform run kept
+    /// by the caller between them. `None` (nothing changed) unless the uniform run covers
+    /// `from` up to the last floor and the prefix sums are for `lat`. The floors before
+    /// `from` are written out; the floors from the run's next slave on are read only through
+    /// [`OutFloors::close_through`], which hands the run back.
+    #[inline]
+    pub(super) fn open_through(&mut self, from: usize, lat: Duration) -> Option<Through> {
+        let u = self.uniform?;
+        let to = self.floors.len();
+        if self.prefix_lat != Some(lat) || u.from > from || u.to != to || from + 1 >= to {
+            return None;
+        }
+        let q_out = *self.prefix.get(to - 1)?;
+        self.write_range(u, u.from, from);
+        self.uniform = None;
+        self.ceiling = None;
+        Some(Through {
+            next: from,
+            offset: u.offset,
+            q_out,
+            lat,
+        })
+    }
+
+    /// [`OutFloors::send_through`] of the telegram of slave `t.next` (starting at `start`,
+    /// `len` long, `left` its end) within `t`: its floor set to `left`, the telegram carried
+    /// through the repeaters after it, the run after it one offset above the hops. Returns
+    /// `send_through`'s figures; `None` (nothing changed) for the last slave (no repeater
+    /// after it) or where a sum could saturate: then the caller closes `t` and goes the
+    /// general way. Debug builds compare it with `set` and `pass`.
+    #[inline]
+    pub(super) fn through_next(
+        &mut self,
+        t: &mut Through,
+        left: Instant,
+        start: Instant,
+        len: Duration,
+        plain: &[u64],
+    ) -> Option<(Instant, Instant, bool)> {
+        let j = t.next;
+        let to = self.floors.len();
+        if j + 1 >= to {
+            return None;
+        }
+        let q_in = *self.prefix.get(j)?;
+        let before = u64::try_from(q_in + t.offset).ok()?;
+        let offset = i128::from(start.as_picos()) - q_in;
+        let reached = offset.max(t.offset);
+        let len_ps = i128::from(len.as_picos());
+        let out = reached + t.q_out;
+        if out + len_ps >= SAFE_PS {
+            return None;
+        }
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut f = self.clone();
+            f.uniform = Some(Uniform {
+                from: j,
+                to,
+                offset: t.offset,
+            });
+            debug_assert_eq!(f.get(j), Some(Instant::from_picos(before)), "floor {j}");
+            f.set(j, left);
+            let seg = Crossing {
+                start,
+                len,
+                lat: t.lat,
+            };
+            let got = f.pass(plain, j + 1..to, seg, |_, _, s| (s, 0));
+            (f, got)
+        };
+        #[cfg(not(debug_assertions))]
+        let _ = plain;
+        if let Some(f) = self.floors.get_mut(j) {
+            *f = left;
+        }
+        let got = (
+            Instant::from_picos(u64::try_from(out).unwrap_or(0)),
+            t.offset > offset,
+        );
+        t.next = j + 1;
+        t.offset = reached + len_ps;
+        #[cfg(debug_assertions)]
+        {
+            let (f, want) = general;
+            debug_assert_eq!(got, want, "a telegram sent through in a run of them");
+            let mut mine = self.clone();
+            mine.uniform = Some(Uniform {
+                from: t.next,
+                to,
+                offset: t.offset,
+            });
+            for m in 0..to {
+                debug_assert_eq!(mine.get(m), f.get(m), "floor {m} in a run sent through");
+            }
+        }
+        Some((Instant::from_picos(before), got.0, got.1))
+    }
+
+    /// [`OutFloors::set`] of the last slave's floor to `left` (its telegram goes straight
+    /// into the master: no repeater after it) within `t`, which it ends. Returns the floor
+    /// before; `None` (nothing changed) when `t.next` is not the last slave or that floor
+    /// is not an instant. Debug builds compare it with `set`.
+    #[inline]
+    pub(super) fn through_last(&mut self, t: &mut Through, left: Instant) -> Option<Instant> {
+        let j = t.next;
+        let to = self.floors.len();
+        if j + 1 != to {
+            return None;
+        }
+        let q = *self.prefix.get(j)?;
+        let before = u64::try_from(q + t.offset).ok()?;
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut f = self.clone();
+            f.uniform = Some(Uniform {
+                from: j,
+                to,
+                offset: t.offset,
+            });
+            debug_assert_eq!(f.get(j), Some(Instant::from_picos(before)), "floor {j}");
+            f.set(j, left);
+            f
+        };
+        if let Some(f) = self.floors.get_mut(j) {
+            *f = left;
+        }
+        t.next = to;
+        #[cfg(debug_assertions)]
+        for m in 0..to {
+            debug_assert_eq!(
+                self.floors.get(m),
+                general.get(m).as_ref(),
+                "floor {m} after the last slave's telegram in a run"
+            );
+        }
+        Some(Instant::from_picos(before))
+    }
+
+    /// Hands the run of `t` back ([`OutFloors::open_through`]): the floors from its next
+    /// slave on one offset above the hops, as the last [`OutFloors::through_next`] left them.
+    #[inline]
+    pub(super) fn close_through(&mut self, t: Through) {
+        let to = self.floors.len();
+        self.uniform = (t.next < to).then_some(Uniform {
+            from: t.next,
+            to,
+            offset: t.offset,
+        });
+        self.ceiling = None;
+    }
+
     /// Starts a sweep: a segment carried hop by hop through repeaters in ring order (a
     /// master's segment round a plain ring), whose floors are read and written one by one
     /// ([`OutFloors::swept`], [`OutFloors::sweep_set`]) and kept as one run at its end where
@@ -506,14 +676,16 @@ mod tests {
         (at, delays.len())
     }
 
-    /// Passes, sweeps and single floors read and written in random order (runs anywhere,
-    /// telegrams held up by earlier ones, steady signals, two latencies): the same starts and
+    /// Passes, sweeps, single floors read and written and runs of slaves' telegrams sent
+    /// through in random order (runs anywhere, telegrams held up by earlier ones, steady
+    /// signals, two latencies): the same starts and
     /// floors as plain floors walked hop by hop; many passes take the constant-time way.
     #[test]
     fn same_as_walking_every_hop() {
         let mut uniform_passes = 0;
         let mut free_sweeps = 0;
         let mut sent_through = 0;
+        let mut in_runs = 0;
         for seed in 0..200 {
             let mut rng = Lcg(seed);
             let n = 2 + rng.next(12) as usize;
@@ -523,7 +695,7 @@ mod tests {
             let mut now = 0u64;
             for step in 0..300 {
                 now += rng.next(40_000);
-                match rng.next(6) {
+                match rng.next(7) {
                     0 => {
                         let m = rng.next(n as u64) as usize;
                         let v = Instant::from_picos(now + rng.next(90_000));
@@ -621,6 +793,64 @@ mod tests {
                             }
                         }
                     }
+                    6 => {
+                        // The slaves' telegrams one after the other in ring order, from
+                        // slave `from` to the last, each up to the master
+                        // (`send_all_plain`), with the uniform run kept between them where it
+                        // may be (`open_through`), else each set and passed on.
+                        let from = match fast.uniform {
+                            Some(u) if u.from >= 1 && u.from < n && rng.next(4) != 0 => u.from,
+                            _ => 1 + rng.next(n as u64 - 1) as usize,
+                        };
+                        let lat =
+                            Duration::from_picos(if rng.next(20) == 0 { 250_000 } else { 125_000 });
+                        let mut run = fast.open_through(from, lat);
+                        for j in from..n {
+                            now += rng.next(30_000);
+                            let start = Instant::from_picos(now);
+                            let len = Duration::from_picos(rng.next(3) * rng.next(200_000));
+                            let left = start.saturating_add(len);
+                            let plain = delays.get(j + 1..n).unwrap_or(&[]);
+                            let before = slow[j];
+                            slow[j] = left;
+                            let want = reference(plain, &mut slow[j + 1..n], start, lat, len);
+                            let got = match run.as_mut() {
+                                Some(t) if j + 1 < n => fast
+                                    .through_next(t, left, start, len, plain)
+                                    .map(|(f, out, held)| (f, Some((out, held)))),
+                                Some(t) => fast.through_last(t, left).map(|f| (f, None)),
+                                None => None,
+                            };
+                            if let Some((floor, passed)) = got {
+                                in_runs += 1;
+                                assert_eq!(floor, before, "seed {seed} step {step} run {j}");
+                                if let Some((out, held)) = passed {
+                                    assert_eq!(out, want.0, "seed {seed} step {step} run {j}");
+                                    let free = plain.iter().fold(start, |a, d| {
+                                        a.saturating_add(Duration::from_picos(*d))
+                                            .saturating_add(lat)
+                                    });
+                                    assert_eq!(held, out > free, "seed {seed} step {step} held");
+                                }
+                                continue;
+                            }
+                            if let Some(t) = run.take() {
+                                fast.close_through(t);
+                            }
+                            assert_eq!(fast.get(j), Some(before), "seed {seed} step {step}");
+                            fast.set(j, left);
+                            if j + 1 < n {
+                                let seg = Crossing { start, len, lat };
+                                let (got, _) = fast.pass(plain, j + 1..n, seg, |p, f, s| {
+                                    reference(p, f, s, lat, len)
+                                });
+                                assert_eq!(got, want.0, "seed {seed} step {step} run {j}");
+                            }
+                        }
+                        if let Some(t) = run.take() {
+                            fast.close_through(t);
+                        }
+                    }
                     _ => {
                         let first = 1 + rng.next(n as u64 - 1) as usize;
                         let end = first + 1 + rng.next((n - first) as u64) as usize;
@@ -658,5 +888,6 @@ mod tests {
         assert!(uniform_passes > 1_000, "{uniform_passes}");
         assert!(free_sweeps > 1_000, "{free_sweeps}");
         assert!(sent_through > 300, "{sent_through}");
+        assert!(in_runs > 1_000, "{in_runs}");
     }
 }

@@ -162,7 +162,7 @@ impl Simulation {
 
     /// Debug builds: a filler answered from the last pass gets what its own pass would give
     /// (the same start after the same run, and no floor changed).
-    fn debug_check_follower(
+    pub(super) fn debug_check_follower(
         &self,
         cur: usize,
         start: Instant,
