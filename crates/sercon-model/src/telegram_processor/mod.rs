@@ -191,16 +191,95 @@ pub(crate) struct Block {
     pub(crate) steps: u32,
     /// Tick at which the last telegram of the block ended.
     pub(crate) last_end: u64,
-    /// Header addresses reached in this block (one bit per RAM word).
-    pub(crate) visited: Visited,
+    /// The block's number among the blocks the chip started, which the header addresses it
+    /// reaches are stamped with ([`Visits`]); 0 for a block no step started (a walk ahead's,
+    /// `output_bound`), which has reached none.
+    pub(crate) stamp: u32,
+    /// Debug builds: the header addresses reached, as a set of the block's own, against
+    /// which every stamp is checked.
+    #[cfg(debug_assertions)]
+    pub(crate) shadow: Visited,
 }
 
-/// One bit per RAM word (2048 words at most, 816 §2.5): the headers a block has reached.
+/// The header addresses the blocks reach (410B §4.2.1 PT: a header reached twice in one block
+/// means a list that never reaches its end marker, `load`), one stamp per RAM word: the
+/// number of the last block that reached a header there ([`Block::stamp`]). A block start
+/// takes the next number instead of clearing a set of its own (a 2048-bit set was cleared at
+/// every block start and carried with the block: ring-8 −0.6 % instructions a cycle,
+/// docs/performance.md, session 29).
+#[derive(Clone)]
+pub(crate) struct Visits {
+    /// Per RAM word: the number of the last block that reached a header there (0: none);
+    /// as many as the larger RAM has words (816 §2.5: 2048), so that every header address
+    /// (`Variant::pointer_mask`) has one.
+    stamps: Box<[u32; STAMPS]>,
+    /// The number of the last block started (0: none yet).
+    last: u32,
+}
+
+/// One stamp per word of the larger RAM (816 §2.5: 2048 words).
+const STAMPS: usize = sercon_regs::Variant::Sercon816.ram_words() as usize;
+
+impl Default for Visits {
+    fn default() -> Self {
+        Visits {
+            stamps: Box::new([0; STAMPS]),
+            last: 0,
+        }
+    }
+}
+
+/// What the stamps say: the last block's number and the addresses it reached (older stamps
+/// match no block that can still be asked about, [`Visits::start`]), not 2048 numbers.
+impl std::fmt::Debug for Visits {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let reached: Vec<usize> = (0..STAMPS)
+            .filter(|&a| self.last != 0 && self.stamps[a] == self.last)
+            .collect();
+        f.debug_struct("Visits")
+            .field("last", &self.last)
+            .field("reached", &reached)
+            .finish()
+    }
+}
+
+impl Visits {
+    /// The number of a block starting now: no word carries it yet.
+    fn start(&mut self) -> u32 {
+        self.last = self.last.wrapping_add(1);
+        if self.last == 0 {
+            // Every number used: the stamps start afresh (no word may carry the new one).
+            self.stamps.fill(0);
+            self.last = 1;
+        }
+        self.last
+    }
+
+    /// Whether block `stamp` reached `addr` (never for stamp 0, a block not started). The
+    /// stamps of a block are kept until the next starts: asked of the block in progress
+    /// (or of one not started).
+    fn reached(&self, stamp: u32, addr: u16) -> bool {
+        stamp != 0 && self.stamps[usize::from(addr) % STAMPS] == stamp
+    }
+
+    /// Marks `addr` reached by block `stamp` (≠ 0, the block in progress); returns whether it
+    /// was already. Addresses count modulo 2048, as the set of bits did (a header address is
+    /// a masked pointer, `Variant::pointer_mask`, below that anyway).
+    fn mark(&mut self, stamp: u32, addr: u16) -> bool {
+        let s = &mut self.stamps[usize::from(addr) % STAMPS];
+        let seen = *s == stamp;
+        *s = stamp;
+        seen
+    }
+}
+
+/// One bit per RAM word (2048 words at most, 816 §2.5): the headers a walk ahead has reached
+/// (`output_bound`), and in debug builds a block's ([`Block::shadow`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Visited([u64; 32]);
 
 impl Visited {
-    const EMPTY: Visited = Visited([0; 32]);
+    pub(crate) const EMPTY: Visited = Visited([0; 32]);
 
     /// Marks `addr`; returns whether it was marked already.
     pub(crate) fn mark(&mut self, addr: u16) -> bool {
@@ -337,6 +416,8 @@ pub(crate) struct TelegramProcessor {
     /// Programming errors and blocks ended early so far (wrapping): a kept output bound does
     /// not outlive one (`Chip::advance_before_output`).
     pub(crate) irregular: u32,
+    /// The header addresses the blocks reached.
+    pub(crate) visits: Visits,
 }
 
 /// Most headers one block may walk: every header has at least two words.
@@ -845,13 +926,16 @@ pub(crate) fn start_block(chip: &mut Chip, tick: u64, block: u8) {
     {
         chip.set_layout(None);
     }
+    let stamp = chip.tp.visits.start();
     chip.tp.block = Some(Block {
         block,
         ref_tick: tick,
         cur: None,
         steps: 0,
         last_end: tick,
-        visited: Visited::EMPTY,
+        stamp,
+        #[cfg(debug_assertions)]
+        shadow: Visited::EMPTY,
     });
     let compt = walk::word(&chip.ram, u32::from(block & 1)).unwrap_or(0);
     load(chip, tick, compt);
@@ -899,6 +983,7 @@ fn load(chip: &mut Chip, tick: u64, ptr: u16) {
     b.steps += 1;
     let steps = b.steps;
     let ref_tick = b.ref_tick;
+    let stamp = b.stamp;
     chip.tp.flrwait = false;
     if steps > limit {
         // A list that never reaches its end marker loops.
@@ -908,7 +993,13 @@ fn load(chip: &mut Chip, tick: u64, ptr: u16) {
     }
     let variant = chip.cfg.variant;
     let ptr = ptr & variant.pointer_mask();
-    if chip.tp.block.as_mut().is_some_and(|b| b.visited.mark(ptr)) {
+    #[cfg(debug_assertions)]
+    let shadow = chip.tp.block.as_mut().is_some_and(|b| b.shadow.mark(ptr));
+    debug_assert_ne!(stamp, 0, "a block started without a stamp");
+    let seen = chip.tp.visits.mark(stamp, ptr);
+    #[cfg(debug_assertions)]
+    debug_assert_eq!(seen, shadow, "the visit stamps against the block's own set");
+    if seen {
         // A header reached twice in one block: the list loops and never reaches its end
         // marker (410B §4.2.1 PT). Found at once, so a loop costs one pass over its headers.
         prog_error(chip, ProgErr::NoEndMarker);
@@ -1090,6 +1181,64 @@ mod tests {
     use super::*;
     use sercon_regs::Variant;
     use sercon_regs::ram::header::TxHeader;
+
+    /// The visit stamps answer as a set of reached addresses per block would (`Visited`, the
+    /// set they replace): a block reaches an address once, a new block has reached none of
+    /// its predecessors' addresses, a block not started (stamp 0) none, and after every
+    /// number was used the stamps start afresh.
+    #[test]
+    fn visit_stamps_are_a_set_per_block() {
+        let mut v = Visits::default();
+        let check = |v: &mut Visits, addrs: &[u16]| {
+            let stamp = v.start();
+            assert_ne!(stamp, 0);
+            let mut set = Visited::EMPTY;
+            for &a in addrs {
+                let mut ahead = set;
+                assert_eq!(v.reached(stamp, a), ahead.mark(a), "{a}");
+                assert_eq!(v.mark(stamp, a), set.mark(a), "{a}");
+                assert!(v.reached(stamp, a));
+                assert!(!v.reached(0, a), "a block not started reached {a}");
+            }
+        };
+        let list = [16, 31, 40, 16, 2047, 0, 31];
+        assert!(
+            !v.reached(0, 16) && !v.reached(0, 1000),
+            "a block not started reached"
+        );
+        // Marking twice in one block is seen; the next block starts with none reached.
+        let stamp = v.start();
+        assert!(!v.mark(stamp, 16));
+        assert!(v.mark(stamp, 16));
+        let next = v.start();
+        assert!(
+            !v.reached(next, 16),
+            "a new block reached its predecessor's address"
+        );
+        assert!(!v.mark(next, 16));
+        check(&mut v, &list);
+        check(&mut v, &list);
+        // Addresses count modulo 2048, as the set's bits did.
+        let stamp = v.start();
+        let mut set = Visited::EMPTY;
+        for a in [5u16, 2048 + 5, 4095, 2047] {
+            assert_eq!(v.mark(stamp, a), set.mark(a), "{a}");
+        }
+        // Every number used: a stamp left from before cannot make the new block's.
+        v.last = u32::MAX - 1;
+        let old = v.start();
+        assert_eq!(old, u32::MAX);
+        v.mark(old, 100);
+        v.stamps[200] = 1;
+        let wrapped = v.start();
+        assert_eq!(wrapped, 1);
+        assert!(
+            !v.reached(wrapped, 200),
+            "a stamp from before the numbers wrapped"
+        );
+        assert!(!v.mark(wrapped, 100));
+        assert!(!v.mark(wrapped, 200));
+    }
 
     /// Every transmit header word 0 (marker 01, 410B §4.2.1) with the other words of a few
     /// kinds: what `TxHead` reads and writes in place is what decoding the header into

@@ -144,7 +144,9 @@ fn walk_block(chip: &Chip, tick: u64, block: u8, guard: Writes) -> Option<Walk> 
         cur: None,
         steps: 0,
         last_end: tick,
-        visited: super::Visited::EMPTY,
+        stamp: 0,
+        #[cfg(debug_assertions)]
+        shadow: super::Visited::EMPTY,
     };
     let mut clear = true;
     let found = next_tx_in_list_with(chip, &b, compt, |at, words, end| {
@@ -470,9 +472,19 @@ fn next_tx_in_list_with(
     // A header reached twice in one block ends it (`load`: the list loops): no telegram
     // after it. The headers already reached count, so the controller's own writes to them
     // (VAL, NERR of the current header) cannot change what this walk found.
-    let mut visited = b.visited;
+    // The block's own reached in its stamps, the walk's in a set of its own.
+    let mut visited = super::Visited::EMPTY;
+    #[cfg(debug_assertions)]
+    let mut shadow = b.shadow;
     for i in 0..steps {
-        if visited.mark(ptr) {
+        let seen = chip.tp.visits.reached(b.stamp, ptr) || visited.mark(ptr);
+        #[cfg(debug_assertions)]
+        debug_assert_eq!(
+            seen,
+            shadow.mark(ptr),
+            "a walk ahead's stamps against its set"
+        );
+        if seen {
             return walk;
         }
         // The words `header_at` reads (the longest header, clipped by the RAM's end).
