@@ -339,6 +339,20 @@ pub(crate) struct MstState {
     pub(crate) missed_since: bool,
 }
 
+/// An instant no frame queued in [`TelegramProcessor::rx_queue`] starts after
+/// ([`TelegramProcessor::on_rx_frame`]). Starts of queued frames are never moved (a
+/// report that takes a frame's place has its start; take-backs and pops only remove), so
+/// the start of the frame pushed last at the back stays one; [`Instant::MAX`] (the
+/// default, e.g. after a reset, which keeps the queue) until one is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct QueueBound(pub(crate) Instant);
+
+impl Default for QueueBound {
+    fn default() -> Self {
+        QueueBound(Instant::MAX)
+    }
+}
+
 /// The telegram processor's state. Owned by [`Chip`]; reset with the chip.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct TelegramProcessor {
@@ -350,6 +364,9 @@ pub(crate) struct TelegramProcessor {
     /// first in place: on a steady ring a frame mostly comes to an empty queue (a slave
     /// takes its MST before its MDT comes) and is taken from the front.
     pub(crate) rx_queue: FirstQueue<(u64, HeardFrame)>,
+    /// No frame in `rx_queue` starts after this instant (`on_rx_frame`): a frame that starts
+    /// at or after it goes to the back without a look at the queue's last entry.
+    pub(crate) rx_queue_bound: QueueBound,
     pub(crate) rx_now: Option<RxNow>,
     /// The start of the last frame taken from `rx_queue` (its start processed, or passed
     /// over): a take-back of a frame that starts no later finds it taken. The frame in
@@ -531,12 +548,26 @@ impl TelegramProcessor {
     /// `start_tick` is the first MCLK tick at or after the frame's start.
     #[inline(always)]
     pub(crate) fn on_rx_frame(&mut self, start_tick: u64, frame: HeardFrame) {
-        // Keep the queue ordered by start; frames normally arrive in order.
-        if self
-            .rx_queue
-            .back()
-            .is_none_or(|(_, last)| last.start <= frame.start)
+        // Keep the queue ordered by start; frames normally arrive in order. A frame that
+        // starts at or after the kept bound starts at or after the last one queued: it
+        // goes to the back, as the look at the last one below decides (debug-checked).
+        let in_order = frame.start >= self.rx_queue_bound.0;
+        debug_assert!(
+            !in_order
+                || self
+                    .rx_queue
+                    .back()
+                    .is_none_or(|(_, last)| last.start <= frame.start),
+            "a frame before the last one queued passed the queue's bound"
+        );
+        if in_order
+            || self
+                .rx_queue
+                .back()
+                .is_none_or(|(_, last)| last.start <= frame.start)
         {
+            // Every frame queued starts at or before this one (the queue is in order).
+            self.rx_queue_bound.0 = frame.start;
             self.rx_queue.push_back((start_tick, frame));
         } else {
             let idx = self
@@ -1274,6 +1305,69 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// Frames queued out of order, with pops, take-backs and a reset (which keeps the
+    /// queue, the bound back at its default) in between, end in the order of their starts
+    /// (equal starts in the order they came), as the queue without its bound orders them
+    /// (`on_rx_frame`: the bound's short way and the look at the last entry decide alike).
+    #[test]
+    fn the_receive_queue_stays_in_order_with_its_bound() {
+        use crate::serial_port::HeardFrame;
+        let frame = |start: u64, n: u8| HeardFrame {
+            start: Instant::from_picos(start),
+            end: Instant::from_picos(start + 1),
+            bytes: std::rc::Rc::from(vec![n]),
+            fcs_ok: true,
+        };
+        // (start, what happens first: 0 nothing, 1 a pop, 2 a reset, 3 the last removed).
+        let steps: [(u64, u8); 14] = [
+            (10, 0),
+            (30, 0),
+            (20, 0),
+            (20, 1),
+            (5, 0),
+            (40, 3),
+            (35, 0),
+            (25, 2),
+            (50, 0),
+            (45, 1),
+            (45, 0),
+            (60, 3),
+            (55, 2),
+            (1, 0),
+        ];
+        let mut tp = TelegramProcessor::default();
+        let mut model: Vec<(u64, u8)> = Vec::new();
+        for (n, &(start, before)) in (0u8..).zip(steps.iter()) {
+            match before {
+                1 => {
+                    tp.rx_queue.pop_front();
+                    if !model.is_empty() {
+                        model.remove(0);
+                    }
+                }
+                2 => {
+                    let queued = std::mem::take(&mut tp.rx_queue);
+                    tp = TelegramProcessor::default();
+                    tp.rx_queue = queued;
+                }
+                3 => {
+                    tp.rx_queue.pop_back();
+                    model.pop();
+                }
+                _ => {}
+            }
+            tp.on_rx_frame(start, frame(start, n));
+            let at = model.partition_point(|(s, _)| *s <= start);
+            model.insert(at, (start, n));
+            let queued: Vec<(u64, u8)> = tp
+                .rx_queue
+                .iter()
+                .map(|(t, f)| (*t, f.bytes.first().copied().unwrap_or(0)))
+                .collect();
+            assert_eq!(queued, model, "after frame {n} at {start}");
         }
     }
 }
