@@ -640,7 +640,14 @@ impl Receiver {
                     if mismatch {
                         self.running = None;
                     } else {
-                        self.decode(&seg, prev_level, cfg, events, frames);
+                        // Handed on here, in decoding order, their REACTN changes scheduled
+                        // by `decode` (410B §2 REACTN; the frame sink neither reads nor
+                        // changes `events`, so the order of the two is free): with the sink
+                        // passed to no call, the chip's sink (`Chip::line_input`) needs no
+                        // place in memory on the hinted path, whose frame it takes in line.
+                        for f in self.decode(&seg, prev_level, cfg, events) {
+                            frames.take(f);
+                        }
                     }
                 }
             }
@@ -668,20 +675,21 @@ impl Receiver {
         }
     }
 
-    /// Decodes an explicit bit segment, continuing the previous one if it is contiguous.
+    /// Decodes an explicit bit segment, continuing the previous one if it is contiguous;
+    /// returns the frames it completed, in order, for the caller to hand on, their REACTN
+    /// changes scheduled.
     // Out of line: a telegram with a hint (no fault on its way) takes neither; kept out
     // of the delivery path's code (docs/performance.md, session 5).
     #[inline(never)]
-    fn decode<F: FrameSink>(
+    fn decode(
         &mut self,
         seg: &LineSegment,
         prev_level: bool,
         cfg: &PortConfig,
         events: &mut LineEvents,
-        frames: &mut F,
-    ) {
+    ) -> Vec<HeardFrame> {
         let LineSignal::Bits(bits) = &seg.signal else {
-            return;
+            return Vec::new();
         };
         let contiguous = self
             .running
@@ -699,7 +707,7 @@ impl Receiver {
             }));
         }
         let Some(run) = self.running.as_mut() else {
-            return;
+            return Vec::new();
         };
         run.before = Some(run.decoder.clone());
         run.seg_start = seg.start;
@@ -725,7 +733,7 @@ impl Receiver {
         });
         run.next_start = seg.end().unwrap_or(seg.start);
         let resumed_at = run.resumed_at;
-        for f in found {
+        for f in &found {
             if let Some(r) = self.retracted.iter_mut().find(|r| r.0 == f.start) {
                 r.1 = true;
             }
@@ -733,11 +741,11 @@ impl Receiver {
                 // The telegram taken up at a cut (`resume_cut`): its REACTN fall was
                 // scheduled when it first came (410B §2 REACTN); only its end is new.
                 events.push(f.end, Change::Reactn(true));
-                frames.take(f);
             } else {
-                deliver(f, bt, events, frames);
+                schedule_reactn(f, bt, events);
             }
         }
+        found
     }
 
     /// Whether a decoder runs over the bits received (bits a fault touched, a cut telegram
@@ -914,12 +922,18 @@ fn deliver<F: FrameSink>(
     events: &mut LineEvents,
     frames: &mut F,
 ) {
+    schedule_reactn(&frame, bit_time, events);
+    frames.take(frame);
+}
+
+/// Schedules REACTN's pulse for `frame` (410B §2 REACTN, as [`deliver`]).
+#[inline(always)]
+fn schedule_reactn(frame: &HeardFrame, bit_time: Duration, events: &mut LineEvents) {
     let low = frame
         .start
         .saturating_add(bit_time.saturating_mul(FLAG_BITS))
         .min(frame.end);
     events.push_reactn_pulse(low, frame.end);
-    frames.take(frame);
 }
 
 /// Hands the telegram of `seg`'s `hint`, ending at `end`, to the processor with its REACTN
