@@ -89,6 +89,12 @@ pub(crate) struct Node {
     /// queue's entry, which still holds the wake before: moved when the wake is next set,
     /// or at the event's end (`Simulation::queue_joined_parks`).
     pub(crate) park_unqueued: bool,
+    /// The node is in the simulation's touched list (`Simulation::touch`): it is served
+    /// once the event's nodes are. Kept with the node, where a delivery has it at hand.
+    pub(crate) is_touched: bool,
+    /// The node is marked for the simulation's rewake list (`Simulation::set_rewakes`;
+    /// `rewake_done`'s node stays marked off the list).
+    pub(crate) is_rewake: bool,
     /// Index in the VCD, if traced.
     pub(crate) vcd: Option<usize>,
     /// The host's wake under way, suspended in a bus access (`sim/host_run.rs`): it is not
@@ -259,6 +265,8 @@ impl Node {
             ran_past: false,
             parked: false,
             park_unqueued: false,
+            is_touched: false,
+            is_rewake: false,
             vcd: None,
             host_run: None,
         }

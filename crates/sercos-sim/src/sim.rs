@@ -168,13 +168,13 @@ pub struct Simulation {
     queue: WakeQueue,
     recorder: Recorder,
     stats: SimStats,
+    /// Nodes an event touched, each once (marked `Node::is_touched`).
     touched: Vec<usize>,
-    is_touched: Vec<bool>,
     /// Nodes a delivery ahead of their chip left with nothing to serve: only their wake
-    /// is set again, after the touched ones are served.
+    /// is set again, after the touched ones are served (each once, marked
+    /// `Node::is_rewake`).
     rewake: Vec<usize>,
-    is_rewake: Vec<bool>,
-    /// A node taken out of `rewake` (still marked in `is_rewake`) because its own wake set
+    /// A node taken out of `rewake` (still marked `Node::is_rewake`) because its own wake set
     /// its wake after its input (`wake_node`): `set_rewakes` would find the same wake
     /// again. An input after that puts it back (`deliver`).
     rewake_done: usize,
@@ -477,9 +477,7 @@ impl Simulation {
             recorder,
             stats: SimStats::default(),
             touched: Vec::new(),
-            is_touched: vec![false; n],
             rewake: Vec::new(),
-            is_rewake: vec![false; n],
             rewake_done: NO_NODE,
             buf: Vec::new(),
             pins: Vec::new(),
@@ -673,10 +671,10 @@ impl Simulation {
     }
 
     fn touch(&mut self, j: usize) {
-        if let Some(t) = self.is_touched.get_mut(j)
-            && !*t
+        if let Some(node) = self.nodes.get_mut(j)
+            && !node.is_touched
         {
-            *t = true;
+            node.is_touched = true;
             self.touched.push(j);
         }
     }
@@ -763,16 +761,16 @@ impl Simulation {
                 self.set_rewakes();
                 return;
             };
-            if let Some(t) = self.is_touched.get_mut(j) {
-                *t = false;
+            if let Some(node) = self.nodes.get_mut(j) {
+                node.is_touched = false;
             }
             self.serve(j);
             self.set_wake(j);
         }
         // Left over: reschedule without serving (nothing is lost; they run at their time).
         while let Some(j) = self.touched.pop() {
-            if let Some(t) = self.is_touched.get_mut(j) {
-                *t = false;
+            if let Some(node) = self.nodes.get_mut(j) {
+                node.is_touched = false;
             }
             self.set_wake(j);
         }
@@ -783,15 +781,15 @@ impl Simulation {
     /// was set after them).
     fn set_rewakes(&mut self) {
         while let Some(j) = self.rewake.pop() {
-            if let Some(r) = self.is_rewake.get_mut(j) {
-                *r = false;
+            if let Some(node) = self.nodes.get_mut(j) {
+                node.is_rewake = false;
             }
             self.set_wake(j);
         }
         let j = std::mem::replace(&mut self.rewake_done, NO_NODE);
         if j != NO_NODE {
-            if let Some(r) = self.is_rewake.get_mut(j) {
-                *r = false;
+            if let Some(node) = self.nodes.get_mut(j) {
+                node.is_rewake = false;
             }
             debug_assert!(
                 self.next_wake(j)
@@ -1534,8 +1532,8 @@ impl Simulation {
         // frames are taken at that wake) and would get a wake no earlier. It keeps its
         // wake; if nothing is due then, that wake only sets the next one. Debug builds check
         // that the wake it would get is not earlier.
-        if ahead && node.quiet_host() && !self.is_touched.get(j).copied().unwrap_or(true) {
-            if self.is_rewake.get(j).copied().unwrap_or(false) {
+        if ahead && node.quiet_host() && !node.is_touched {
+            if node.is_rewake {
                 // Its wake is set once the event's nodes are served, after this input too
                 // (found again even when its own wake set it meanwhile, `set_rewakes`).
                 if self.rewake_done == j {
@@ -1562,7 +1560,7 @@ impl Simulation {
             {
                 self.deferred.push(j);
             }
-            let Some(node) = self.nodes.get(j) else {
+            let Some(node) = self.nodes.get_mut(j) else {
                 return;
             };
             if !node.chip.line_output_due_at(node.clock.to_local(self.now)) {
@@ -1571,10 +1569,8 @@ impl Simulation {
                 // served (its wake may only come earlier: the input adds frames and
                 // changes). After them, so that a node woken now sets its own wake
                 // first, where the queue keeps it (`WakeQueue` module notes).
-                if let Some(r) = self.is_rewake.get_mut(j)
-                    && !*r
-                {
-                    *r = true;
+                if !node.is_rewake {
+                    node.is_rewake = true;
                     self.rewake.push(j);
                 }
                 return;

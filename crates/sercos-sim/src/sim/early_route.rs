@@ -423,8 +423,8 @@ impl Simulation {
             let Some(node) = self.nodes.get(j) else {
                 continue;
             };
-            if !self.is_touched.get(j).copied().unwrap_or(false)
-                || self.is_rewake.get(j).copied().unwrap_or(true)
+            if !node.is_touched
+                || node.is_rewake
                 || !node.quiet_host()
                 || (!plain && node.chip.line_output_due_at(node.clock.to_local(now)))
             {
@@ -434,11 +434,9 @@ impl Simulation {
                 self.serve_does_nothing(j),
                 "a slave whose AT was sent on would be served for something"
             );
-            if let Some(t) = self.is_touched.get_mut(j) {
-                *t = false;
-            }
-            if let Some(r) = self.is_rewake.get_mut(j) {
-                *r = true;
+            if let Some(node) = self.nodes.get_mut(j) {
+                node.is_touched = false;
+                node.is_rewake = true;
                 self.rewake.push(j);
             }
             removed += 1;
@@ -450,14 +448,14 @@ impl Simulation {
             debug_assert!(
                 self.touched
                     .iter()
-                    .all(|&k| !self.is_touched.get(k).copied().unwrap_or(false)),
+                    .all(|&k| !self.nodes.get(k).is_some_and(|n| n.is_touched)),
                 "a touched node left out"
             );
             self.touched.clear();
         } else if removed > 0 {
-            let touched = &self.is_touched;
+            let nodes = &self.nodes;
             self.touched
-                .retain(|&k| touched.get(k).copied().unwrap_or(false));
+                .retain(|&k| nodes.get(k).is_some_and(|n| n.is_touched));
         }
     }
 

@@ -103,14 +103,17 @@ impl Simulation {
         // if the wake is not set again before the event's end (`queue_joined_parks`).
         // Every node is in `rewake` (`rewake_done` is none), each once: all are marked.
         debug_assert!(
-            self.is_rewake.iter().all(|r| *r),
+            self.nodes.iter().all(|n| n.is_rewake),
             "a node in rewake is not marked"
         );
         self.rewake.clear();
-        self.is_rewake.fill(false);
+        if let Some(master) = self.nodes.first_mut() {
+            master.is_rewake = false;
+        }
         #[cfg(debug_assertions)]
         let parks: Vec<Option<Instant>> = (0..n).map(|j| self.parks_at(j)).collect();
         for node in self.nodes.iter_mut().skip(1) {
+            node.is_rewake = false;
             node.ran_past = false;
             node.parked = true;
             node.wake = Some(node.clock.to_global(node.chip.now()));

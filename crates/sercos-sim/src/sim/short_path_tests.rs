@@ -213,14 +213,16 @@ fn input_after_a_woken_node_set_its_wake_puts_it_back() {
     assert!(master.quiet_host(), "the static master's host is quiet");
     let at = master.chip.now().saturating_add(Duration::from_micros(1));
     // As `wake_node` leaves it: marked, off the list.
-    sim.is_rewake[0] = true;
+    if let Some(m) = sim.nodes.first_mut() {
+        m.is_rewake = true;
+    }
     sim.rewake_done = 0;
     let filler = LineSegment::steady(at, Duration::from_nanos(62), LineSignal::Filler, false);
     sim.deliver(0, filler, 1, false);
     assert_eq!(sim.rewake, vec![0], "back on the list");
     assert_eq!(sim.rewake_done, super::NO_NODE);
     sim.set_rewakes();
-    assert!(!sim.is_rewake[0] && sim.rewake.is_empty());
+    assert!(sim.nodes.first().is_some_and(|m| !m.is_rewake) && sim.rewake.is_empty());
 }
 
 // `route_taken` sends a take of several segments on as one `route_output` each, in order
