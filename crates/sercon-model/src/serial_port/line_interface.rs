@@ -124,6 +124,10 @@ impl Chip {
     /// around it (no background segment; after it only the filler it implies,
     /// [`Chip::set_implied_filler`]): what [`Chip::take_line_output`] hands over once the
     /// chip is past its start.
+    // Inlined with the two calls under it: a simulation asks it of every slave once a
+    // cycle before it sends their ATs on (sercos-sim `early_route`), where the call and
+    // its returned tuple cost more than the check (docs/performance.md, session 29).
+    #[inline(always)]
     pub fn sole_queued_telegram(&self) -> Option<(Instant, Instant, sercos_wire::time::Duration)> {
         self.serial.sole_own_output()
     }

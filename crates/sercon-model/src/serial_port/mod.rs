@@ -407,6 +407,7 @@ impl SerialPort {
     }
 
     /// The one own telegram queued and nothing else (`Transmitter::sole_own`).
+    #[inline(always)]
     pub(crate) fn sole_own_output(&self) -> Option<(Instant, Instant, Duration)> {
         self.tx.sole_own()
     }

@@ -395,6 +395,7 @@ impl Transmitter {
 
     /// The one own telegram queued, `(start, end, bit time)`, when nothing else will be
     /// released around it: no background segment queued and any resume after it silent.
+    #[inline(always)]
     pub(crate) fn sole_own(&self) -> Option<(Instant, Instant, Duration)> {
         debug_assert_eq!(self.uncarried, self.count_uncarried());
         if !self.own.is_single() || !self.released.is_empty() || self.uncarried != 0 {
