@@ -838,9 +838,24 @@ impl Simulation {
         let until = node.clock.to_local(self.now);
         chip_calls::take(j, &mut node.chip, until, &mut out);
         self.route_taken(j, &mut out);
-        self.buf = out;
+        self.put_buf(out);
         if !self.deferred.is_empty() {
             self.route_deferred();
+        }
+    }
+
+    /// Puts `out` back as the take buffer (`buf`). What was left there meanwhile is
+    /// usually the empty vector `mem::take` put in its place: without an allocation it
+    /// holds nothing to drop (a segment is no zero-sized type) and is let go without the
+    /// drop glue's call; a buffer a nested take left there is dropped.
+    #[inline(always)]
+    pub(super) fn put_buf(&mut self, out: Vec<LineSegment>) {
+        let left = std::mem::replace(&mut self.buf, out);
+        if left.capacity() == 0 {
+            debug_assert!(left.is_empty(), "a take buffer without allocation holds segments");
+            std::mem::forget(left);
+        } else {
+            drop(left);
         }
     }
 

@@ -73,7 +73,7 @@ impl Simulation {
                     }
                 }
             }
-            self.buf = out;
+            self.put_buf(out);
             self.stats.ats_sent_on += deferred.len() as u64;
             if self.short_paths {
                 self.unserve_sent_on(&deferred, plain);
