@@ -852,7 +852,11 @@ impl Simulation {
     pub(super) fn put_buf(&mut self, out: Vec<LineSegment>) {
         let left = std::mem::replace(&mut self.buf, out);
         if left.capacity() == 0 {
-            debug_assert!(left.is_empty(), "a take buffer without allocation holds segments");
+            // Letting it go frees nothing: no allocation, and so no segment.
+            debug_assert!(
+                left.capacity() == 0 && left.is_empty(),
+                "a take buffer let go with an allocation"
+            );
             std::mem::forget(left);
         } else {
             drop(left);

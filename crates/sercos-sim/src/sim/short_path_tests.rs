@@ -464,3 +464,21 @@ fn six_slaves_at_700_us() -> super::Simulation {
     assert!(sim.run_until(us(700)).is_ok());
     sim
 }
+
+// `put_buf` lets the vector left in the take buffer's place go without the drop glue only
+// when it holds no allocation (the empty one `mem::take` put there); one with an
+// allocation is dropped (debug builds check that nothing allocated is let go).
+#[test]
+fn a_take_buffer_with_an_allocation_left_in_its_place_is_dropped() {
+    let Ok((cfg, hosts, _)) = six_slaves().build() else {
+        panic!("the ring fits");
+    };
+    let Ok(mut sim) = super::Simulation::new(cfg, hosts) else {
+        panic!("the simulation builds");
+    };
+    sim.buf = Vec::with_capacity(4);
+    sim.put_buf(Vec::new());
+    assert_eq!(sim.buf.capacity(), 0, "the new buffer is in place");
+    sim.put_buf(Vec::with_capacity(2));
+    assert!(sim.buf.capacity() >= 2, "the new buffer is in place");
+}
