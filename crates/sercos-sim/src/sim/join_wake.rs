@@ -66,7 +66,7 @@ impl Simulation {
         }
         // Each slave's wake as `park` would set it: after `m`.
         for j in 1..n {
-            if self.parks_at(j).is_none_or(|g| g <= m) {
+            if !self.parks_after(j, m) {
                 return None;
             }
         }
@@ -113,10 +113,15 @@ impl Simulation {
         #[cfg(debug_assertions)]
         let parks: Vec<Option<Instant>> = (0..n).map(|j| self.parks_at(j)).collect();
         for node in self.nodes.iter_mut().skip(1) {
+            // It ran past its output (`parks_after`): on the simulation's clock.
+            debug_assert!(
+                node.clock.is_identity(),
+                "a joined park off the simulation's clock"
+            );
             node.is_rewake = false;
             node.ran_past = false;
             node.parked = true;
-            node.wake = Some(node.clock.to_global(node.chip.now()));
+            node.wake = Some(node.chip.now());
             node.park_unqueued = true;
         }
         #[cfg(debug_assertions)]
@@ -127,6 +132,41 @@ impl Simulation {
         self.stats.parked_wakes += n.saturating_sub(1) as u64;
         self.stats.joined_wakes += 1;
         Some(m)
+    }
+
+    /// Whether slave `j` parks after `m` (`Simulation::parks_at`) in a join, whose
+    /// conditions ask only what can differ there: every node is powered (only a power-off
+    /// fault powers one down, and `run_ahead_ok` rules them out), a node that ran past its
+    /// output ran ahead on the simulation's clock (`run_ahead_end`: its chip's time is the
+    /// simulation's), and an instant after `m` is after now (`m > now`, the join's
+    /// conditions; 410B §1: the master's telegram reaches a slave after it left). Debug
+    /// builds compare with `parks_at`.
+    #[inline(always)]
+    fn parks_after(&self, j: usize, m: Instant) -> bool {
+        let Some(node) = self.nodes.get(j) else {
+            return false;
+        };
+        let at = node.chip.now();
+        let parks = node.ran_past
+            && node.host_deadline.is_none()
+            && at > m
+            && at < self.run_to
+            // Output it still holds before its time (`parks_at`'s short path first).
+            && (node.chip.next_line_output_at().is_none_or(|o| o >= at)
+                || node
+                    .chip
+                    .next_line_output_unexpected()
+                    .is_none_or(|o| o >= at));
+        debug_assert!(
+            !node.ran_past || (node.powered && node.clock.is_identity()),
+            "a slave run past its output powered off or off the simulation's clock"
+        );
+        debug_assert_eq!(
+            parks,
+            self.parks_at(j).is_some_and(|g| g > m),
+            "a joined park's short check"
+        );
+        parks
     }
 
     /// At the end of an event that joined a wake: the slaves parked then whose wakes were
