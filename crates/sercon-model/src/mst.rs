@@ -10,7 +10,7 @@ use sercon_regs::ram::NMSTERR;
 
 use crate::chip::Chip;
 use crate::telegram_processor::status::{
-    INT_MSTEARLY, INT_MSTLATE, INT_MSTMIS, INT_PHAS0, INT_PHASERR,
+    INT_MSTEARLY, INT_MSTLATE, INT_MSTMIS, INT_PHAS0, INT_PHASERR, ProgErr,
 };
 use crate::telegram_processor::{self as tp, reg25};
 
@@ -23,6 +23,15 @@ pub(crate) fn send_mst(chip: &mut Chip, tick: u64) -> u64 {
     chip.tp.txbuf.clear();
     chip.tp.txbuf.extend_from_slice(&[255, phas0]);
     let at = chip.clock.instant(tick);
+    if chip.serial.own_busy_at(at) {
+        // The transmitter still sends the telegram before (a cycle shorter than what it
+        // sends): the MST is not sent, a programming error as a transmit telegram due
+        // before the previous one ended (17H PROGERR_FL bit 3; spec-notes "An MST due
+        // while the transmitter is busy"). Queued behind it, MSTs would pile up without
+        // end in a cycle shorter than an MST.
+        tp::prog_error(chip, ProgErr::Overlap);
+        return tick;
+    }
     match tp::send_line(chip, at) {
         Some(end) => chip.clock.tick_at_or_after(end).max(tick),
         None => tick,

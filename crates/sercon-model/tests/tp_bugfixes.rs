@@ -4,8 +4,10 @@
 mod harness;
 
 use harness::*;
+use sercon_model::serial_port::LineSignal;
 use sercon_regs::ram::header::TxEnable;
 use sercon_regs::{Register, SerconBus, SerconBusExt, Variant};
+use sercos_wire::time::Duration;
 
 /// Phase 2: the master addresses drive 1 with an MDT (unicast, ADR 1) in the cycles it
 /// chooses; the slave's AT (EN = 3) answers only when the MDT carried its address.
@@ -158,5 +160,46 @@ fn overlapping_transmit_telegrams_are_a_programming_error() {
     m.write(Register::Ctrl3, ENTMT);
     m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
     m.advance_to(us(50));
+    assert_ne!(m.read(Register::ProgerrFl) & (1 << 3), 0);
+}
+
+#[test]
+fn an_mst_due_while_the_last_one_goes_out_is_not_sent() {
+    // A cycle (2 µs) shorter than the MST (3.375 µs at 16 Mbit/s): an MST due while the
+    // transmitter still sends the one before is a programming error and is not sent (410B
+    // §4.1 17H PROGERR_FL bit 3 as for transmit telegrams; spec-notes "An MST due while the
+    // transmitter is busy"), so one goes out at every second cycle start. Queued behind it
+    // instead, MSTs piled up without end (the fuzz target bus_sequence found ≈ 1.4 GB after
+    // ≈ 1 s).
+    let mut m = chip(Variant::Sercon816);
+    m.write(Register::Tscyc0, 2);
+    m.write_ram(0, 16);
+    end_marker(&mut m, 16);
+    m.write(Register::Ctrl3, ENTMT);
+    m.write(Register::Ctrl0C, MSTEN | MSTMASTER | CYCSTART);
+    m.advance_to(us(2000));
+    let mut out = Vec::new();
+    m.take_line_output(&mut out);
+    let msts: Vec<_> = out
+        .iter()
+        .filter(|s| matches!(s.signal, LineSignal::Bits(_)))
+        .map(|s| (s.start, s.end().unwrap_or(s.start)))
+        .collect();
+    assert_eq!(
+        msts.len(),
+        501,
+        "an MST every second cycle from 0 to 2000 µs"
+    );
+    for (w, pair) in msts.windows(2).enumerate() {
+        let [(start, end), (next, _)] = pair else {
+            continue;
+        };
+        assert!(end.saturating_duration_since(*start) < Duration::from_micros(4));
+        assert_eq!(
+            next.saturating_duration_since(*start),
+            Duration::from_micros(4),
+            "MST {w} and the next two cycles apart"
+        );
+    }
     assert_ne!(m.read(Register::ProgerrFl) & (1 << 3), 0);
 }

@@ -313,6 +313,12 @@ impl SerialPort {
         taken.into_iter().map(|(start, _)| start).collect()
     }
 
+    /// Whether the chip's own last telegram is still going out at `at`
+    /// ([`Transmitter::own_busy_at`]).
+    pub(crate) fn own_busy_at(&self, at: Instant) -> bool {
+        self.tx.own_busy_at(at)
+    }
+
     /// Queues an own telegram at `at`; returns when its last bit leaves, `None` when nothing
     /// is sent (transmitter off, test mode, no bit clock, telegram not encodable).
     pub(crate) fn transmit(&mut self, at: Instant, telegram: &[u8]) -> Option<Instant> {

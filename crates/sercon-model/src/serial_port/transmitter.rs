@@ -138,6 +138,12 @@ impl Own {
 }
 
 impl Transmitter {
+    /// Whether an own telegram queued before is still going out at `at` (it ends after
+    /// `at`): a telegram handed over then would wait behind it.
+    pub(crate) fn own_busy_at(&self, at: Instant) -> bool {
+        at < self.busy_until
+    }
+
     /// Queues an own telegram (ADR and data) at `at`, or right after the own telegram being
     /// sent if that ends later; `None` when the telegram cannot be encoded (empty or longer
     /// than the line layer allows).

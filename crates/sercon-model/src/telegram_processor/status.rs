@@ -42,7 +42,8 @@ pub(crate) enum ProgErr {
     /// no container with LASTDC within bounds).
     ContainerOverrun = 2,
     /// Bit 3: telegrams overlap in time (a transmit telegram due before the previous one
-    /// ended or before its header was reached; a block still running at the next cycle).
+    /// ended or before its header was reached; a block still running at the next cycle; an
+    /// MST due while the transmitter still sends).
     Overlap = 3,
     /// Bit 4: a DMA FIFO under- or overrun (TFIFO short of words at the start of a
     /// telegram, RFIFO still holding words when new data arrives).
