@@ -78,10 +78,12 @@ fuzz_target!(|data: &[u8]| {
                     2 => LineSignal::Dark,
                     _ => LineSignal::Light,
                 };
-                let hint = (a & 0x10 != 0 && !payload.is_empty()).then(|| FrameHint {
-                    telegram: Shared::from(payload),
-                    offset: u64::from(a >> 5),
-                    twin: None,
+                let hint = (a & 0x10 != 0 && !payload.is_empty()).then(|| {
+                    Shared::new(FrameHint {
+                        telegram: Shared::from(payload),
+                        offset: u64::from(a >> 5),
+                        coded: None,
+                    })
                 });
                 let seg = LineSegment {
                     start,

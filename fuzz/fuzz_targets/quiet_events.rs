@@ -104,11 +104,11 @@ fuzz_target!(|data: &[u8]| {
                         if enc.encode(payload, &mut bits).is_err() {
                             continue;
                         }
-                        let hint = FrameHint {
+                        let hint = Shared::new(FrameHint {
                             telegram: Shared::from(payload),
                             offset: 0,
-                            twin: None,
-                        };
+                            coded: None,
+                        });
                         (LineSignal::Bits(Shared::new(bits)), Some(hint))
                     }
                     1 => (LineSignal::Filler, None),

@@ -28,11 +28,11 @@ fn coded(start: Instant, telegram: &[u8]) -> Option<LineSegment> {
     let mut bits = BitVec::new();
     enc.encode(telegram, &mut bits).ok()?;
     Some(LineSegment {
-        hint: Some(FrameHint {
+        hint: Some(Shared::new(FrameHint {
             telegram: Shared::from(telegram),
             offset: 0,
-            twin: None,
-        }),
+            coded: None,
+        })),
         ..LineSegment::bits(start, BT, bits, false)
     })
 }

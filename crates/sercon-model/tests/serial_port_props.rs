@@ -86,7 +86,7 @@ proptest! {
                         bit_time: bt,
                         signal,
                         level_before,
-                        hint: hint.map(|t| FrameHint { telegram: t.into(), offset: bits.len() as u64 / 2, twin: None }),
+                        hint: hint.map(|t| Shared::new(FrameHint { telegram: t.into(), offset: bits.len() as u64 / 2, coded: None })),
                         distorted,
                         // Some telegrams carry their filler (LineSegment::then_filler).
                         then_filler: gap_ns % 3 == 0,

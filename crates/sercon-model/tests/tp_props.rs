@@ -38,7 +38,7 @@ proptest! {
                 continue;
             }
             let (signal, hint) = if ok {
-                let hint = FrameHint { telegram: Shared::from(&bytes[..]), offset: 0, twin: None };
+                let hint = Shared::new(FrameHint { telegram: Shared::from(&bytes[..]), offset: 0, coded: None });
                 (bits, Some(hint))
             } else {
                 // One light level inverted: the receiver decodes whatever that gives.

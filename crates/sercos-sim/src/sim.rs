@@ -1499,7 +1499,7 @@ impl Simulation {
             // last may differ from the sender's: a telegram is taken from the level the
             // receiver is at (NRZI decodes an inverted telegram the same), by the chip
             // (`Chip::line_input_at_level`; the sender's hint has the inverted bits at hand,
-            // `FrameHint::twin`). Nothing below reads the bits or the level before that.
+            // `FrameHint::coded`). Nothing below reads the bits or the level before that.
             if matches!(local.signal, LineSignal::Filler) {
                 node.continue_filler(&mut local);
             }

@@ -8,7 +8,7 @@
 
 use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity, frame_bit_len};
 
-use super::{PRESYNC_BITS, Shared};
+use super::{FrameHint, PRESYNC_BITS, Shared};
 
 /// Telegrams remembered (a master's MST and MDTs, a slave's ATs: a handful per cycle).
 const ENTRIES: usize = 8;
@@ -20,18 +20,17 @@ struct Entry {
     presync: bool,
     /// Line bits: sync word, flags, stuffed data and FCS.
     len: u64,
-    /// The bits on a line at level `false` / `true` before the first bit, with the offset
-    /// of the opening flag.
-    coded: [Option<(Shared<BitVec>, u64)>; 2],
+    /// Once coded: the hint of every segment of the telegram, with the bits from both
+    /// levels ([`FrameHint::coded`], always set here) and the offset of the opening flag.
+    hint: Option<Shared<FrameHint>>,
 }
 
-/// A telegram's line bits from one level, with the offset of its opening flag and the
-/// bits from the other level.
+/// A telegram's line bits from one level and its hint (shared by the segments of the
+/// telegram from either level).
 #[derive(Debug, Clone)]
 pub(crate) struct Coded {
     pub(crate) bits: Shared<BitVec>,
-    pub(crate) offset: u64,
-    pub(crate) twin: Option<Shared<BitVec>>,
+    pub(crate) hint: Shared<FrameHint>,
 }
 
 /// The telegrams sent lately (round robin).
@@ -57,7 +56,7 @@ impl CodedFrames {
             telegram: Shared::from(telegram),
             presync,
             len: sync + frame_bit_len(telegram),
-            coded: [None, None],
+            hint: None,
         };
         let found = (entry.telegram.clone(), entry.len);
         if self.entries.len() < ENTRIES {
@@ -70,8 +69,8 @@ impl CodedFrames {
     }
 
     /// The NRZI bits of `telegram` (as given by [`CodedFrames::lookup`]) on a line at
-    /// light level `level` before the first bit, the offset of the opening flag, and the
-    /// bits from the other level (the same inverted) when the telegram is remembered;
+    /// light level `level` before the first bit and the telegram's hint: the offset of the
+    /// opening flag and, when the telegram is remembered, its bits from both levels;
     /// `None` when it cannot be encoded.
     // Inlined at every call: with the release's second own-telegram turn
     // (`Transmitter::release_merged_then_own`) LLVM kept it out of line, which cost more
@@ -90,32 +89,47 @@ impl CodedFrames {
             .find(|e| e.presync == presync && Shared::ptr_eq(&e.telegram, telegram))
         else {
             let (bits, offset) = encode(telegram, presync, len, level)?;
-            return Some(Coded {
-                bits,
+            let hint = Shared::new(FrameHint {
+                telegram: telegram.clone(),
                 offset,
-                twin: None,
+                coded: None,
             });
+            return Some(Coded { bits, hint });
         };
-        let [low, high] = &mut entry.coded;
-        let (this, other) = if level { (high, low) } else { (low, high) };
-        if this.is_none() {
-            *this = Some(encode(telegram, presync, len, level)?);
-        }
-        // NRZI from the other level gives every level the other way (410B §2 TxD: the
-        // coding depends only on the data and the level before the first bit), with the
-        // opening flag at the same offset: the twin is the bits inverted, not encoded again.
-        if other.is_none()
-            && let Some((bits, offset)) = this.as_ref()
-        {
-            *other = Some((Shared::new(bits.inverted()), *offset));
-        }
-        let (bits, offset) = this.clone()?;
+        let hint = match &entry.hint {
+            Some(hint) => hint,
+            None => entry
+                .hint
+                .insert(code_both(&entry.telegram, presync, len, level)?),
+        };
+        let bits = hint.coded.as_ref()?[usize::from(level)].clone();
         Some(Coded {
             bits,
-            offset,
-            twin: other.as_ref().map(|(b, _)| b.clone()),
+            hint: hint.clone(),
         })
     }
+}
+
+/// The hint of `telegram` with its bits from both levels: encoded for `level`, and for
+/// the other level inverted (NRZI from the other level gives every level the other way,
+/// 410B §2 TxD: the coding depends only on the data and the level before the first bit),
+/// with the opening flag at the same offset.
+#[cold]
+#[inline(never)]
+fn code_both(
+    telegram: &Shared<[u8]>,
+    presync: bool,
+    len: u64,
+    level: bool,
+) -> Option<Shared<FrameHint>> {
+    let (this, offset) = encode(telegram, presync, len, level)?;
+    let other = Shared::new(this.inverted());
+    let coded = if level { [other, this] } else { [this, other] };
+    Some(Shared::new(FrameHint {
+        telegram: telegram.clone(),
+        offset,
+        coded: Some(coded),
+    }))
 }
 
 /// Encodes `telegram` for a line at light level `level` before its first bit.
@@ -142,6 +156,18 @@ fn encode(telegram: &[u8], presync: bool, len: u64, level: bool) -> Option<(Shar
 mod tests {
     use super::*;
 
+    /// The bits of a remembered telegram from the other level than `coded.bits`, checking
+    /// that `coded.bits` are the hint's own.
+    fn twin_of(coded: &Coded) -> Shared<BitVec> {
+        let [low, high] = coded.hint.coded.clone().expect("remembered");
+        if Shared::ptr_eq(&coded.bits, &low) {
+            high
+        } else {
+            assert!(Shared::ptr_eq(&coded.bits, &high), "bits not the hint's");
+            low
+        }
+    }
+
     /// 410B §2 TxD (NRZI): the twin, made by inverting, equals a fresh encoding from the
     /// other level, with and without the sync word, whichever level is asked for first.
     #[test]
@@ -154,8 +180,8 @@ mod tests {
                 let coded = c.coded(&t, presync, len, level).expect("encodable");
                 let (fresh, fresh_offset) = encode(&mst, presync, len, level).expect("encodable");
                 assert_eq!(*coded.bits, *fresh, "presync {presync}, level {level}");
-                assert_eq!(coded.offset, fresh_offset);
-                let twin = coded.twin.expect("remembered");
+                assert_eq!(coded.hint.offset, fresh_offset);
+                let twin = twin_of(&coded);
                 let (other, _) = encode(&mst, presync, len, !level).expect("encodable");
                 assert_eq!(*twin, *other, "presync {presync}, level {level}");
             }
@@ -171,10 +197,10 @@ mod tests {
             let coded = c.coded(&t, false, len, level).expect("encodable");
             let (fresh, fresh_offset) = encode(&mst, false, len, level).expect("encodable");
             assert_eq!(*coded.bits, *fresh);
-            assert_eq!(coded.offset, fresh_offset);
+            assert_eq!(coded.hint.offset, fresh_offset);
             assert_eq!(coded.bits.len(), len);
             // NRZI from the other level: every level the other way (the segment's twin).
-            let twin = coded.twin.expect("remembered");
+            let twin = twin_of(&coded);
             assert_eq!(*twin, fresh.inverted());
         }
         // The same bytes share the first allocation; other bytes or a sync word do not.

@@ -1042,11 +1042,11 @@ mod tests {
         for i in 0..u64::from(len).max(1) {
             bits.push(i % 3 == 0);
         }
-        let hint = Some(FrameHint {
+        let hint = Some(Shared::new(FrameHint {
             telegram: Shared::from(&[1u8, 2, 3][..]),
             offset: 1,
-            twin: None,
-        });
+            coded: None,
+        }));
         let mut seg = LineSegment::bits(start, BT, bits, level_before);
         match kind {
             // A telegram with its implied filler: the usual input of an intact ring.

@@ -50,17 +50,33 @@ pub enum LineSignal {
 /// [`LineSegment::level_before`]: then an NRZI receiver decodes exactly one telegram with a
 /// valid FCS, `telegram`, whose opening flag starts at bit `offset` and whose closing flag
 /// ends the segment.
+///
+/// A segment holds its hint behind one [`Shared`] count ([`LineSegment::hint`]): the hint is
+/// the same from either level (NRZI, 410B §2 TxD), so the sender makes it once per telegram
+/// and every segment of that telegram, its copies and their inversions share it.
 #[derive(Debug, Clone)]
 pub struct FrameHint {
     /// The telegram bytes (ADR and data, without FCS).
     pub telegram: Shared<[u8]>,
     /// The first bit of the opening flag, counted from the segment's first bit.
     pub offset: u64,
-    /// The segment's bits inverted (the telegram coded from the other level: NRZI from the
-    /// opposite level gives every level the other way), when the sender has them at hand:
-    /// [`LineSegment::inverted`] then shares them instead of copying. A cache, not part of
-    /// what the hint says (`==` ignores it).
-    pub twin: Option<Shared<BitVec>>,
+    /// The telegram's bits coded from each level before the first bit (index 0: low, 1:
+    /// high; NRZI from the opposite level gives every level the other way), when the sender
+    /// has them at hand: [`LineSegment::inverted`] of a segment whose bits are one of them
+    /// shares the other instead of copying. A cache, not part of what the hint says (`==`
+    /// ignores it).
+    pub coded: Option<[Shared<BitVec>; 2]>,
+}
+
+impl FrameHint {
+    /// The bits of [`FrameHint::coded`] from the level other than `level`, when `bits` are
+    /// those from `level` (the same allocation): `bits` inverted.
+    #[inline(always)]
+    fn inverse_of(&self, bits: &Shared<BitVec>, level: bool) -> Option<&Shared<BitVec>> {
+        let [low, high] = self.coded.as_ref()?;
+        let (this, other) = if level { (high, low) } else { (low, high) };
+        Shared::ptr_eq(bits, this).then_some(other)
+    }
 }
 
 impl PartialEq for FrameHint {
@@ -83,9 +99,10 @@ pub struct LineSegment {
     /// The light level the sender assumed before the first bit (NRZI needs it for the first
     /// bit; the [`FrameHint`] assumes it).
     pub level_before: bool,
-    /// The decoded content of [`LineSignal::Bits`], if known. A fault injector that changes the
-    /// bits must set it to `None`.
-    pub hint: Option<FrameHint>,
+    /// The decoded content of [`LineSignal::Bits`], if known, shared (one count for the
+    /// telegram and its coded bits: a segment is moved and cloned on every hop, `FrameHint`).
+    /// A fault injector that changes the bits must set it to `None`.
+    pub hint: Option<Shared<FrameHint>>,
     /// The signal is distorted beyond the receiver's limit (edges off the bit grid): set by a
     /// fault injector; a receiver reports RDIST while it lasts (410B §4.1 2H.12).
     #[doc(alias = "RDIST")]
@@ -224,8 +241,8 @@ impl LineSegment {
 
     /// The light inverted (a transceiver of the other polarity): bits are inverted, dark and
     /// light swap, filler stays filler. NRZI decodes the same, so the hint stays valid.
-    /// With a hint's twin the inverted bits are shared, not copied (and the bits become the
-    /// new hint's twin).
+    /// When the bits are one of the hint's [`FrameHint::coded`], the inverted bits are the
+    /// other, shared, not copied.
     pub fn inverted(mut self) -> Self {
         self.invert();
         self
@@ -234,22 +251,21 @@ impl LineSegment {
     /// [`LineSegment::inverted`] in place.
     #[inline(always)]
     pub fn invert(&mut self) {
-        self.level_before = !self.level_before;
+        let level = self.level_before;
+        self.level_before = !level;
         match &mut self.signal {
             LineSignal::Dark => self.signal = LineSignal::Light,
             LineSignal::Light => self.signal = LineSignal::Dark,
             LineSignal::Filler => {}
             LineSignal::Bits(b) => {
-                let twin = self
-                    .hint
-                    .as_mut()
-                    .and_then(|h| h.twin.take())
-                    .filter(|t| t.len() == b.len());
-                let inv = twin.unwrap_or_else(|| Shared::new(invert_bits(b)));
-                let bits = std::mem::replace(b, inv);
-                if let Some(h) = self.hint.as_mut() {
-                    h.twin = Some(bits);
-                }
+                let inv = match self.hint.as_ref().and_then(|h| h.inverse_of(b, level)) {
+                    Some(other) => {
+                        debug_assert_eq!(**other, invert_bits(b), "a hint's other coding");
+                        other.clone()
+                    }
+                    None => Shared::new(invert_bits(b)),
+                };
+                *b = inv;
             }
         }
     }
@@ -351,6 +367,71 @@ mod tests {
                 assert_eq!(inv.bits().get(i), v.bits().get(i).map(|b| !b), "{len} {i}");
             }
             assert_eq!(invert_bits(&inv), v);
+        }
+    }
+
+    /// A segment from each level with a hint that has both codings, and one whose bits are
+    /// not the hint's own (equal, not the same allocation; or other bits).
+    fn hinted(level: bool) -> (LineSegment, Shared<BitVec>, Shared<BitVec>) {
+        let mut low = BitVec::new();
+        for i in 0..23 {
+            low.push(i % 3 == 0);
+        }
+        let low = Shared::new(low);
+        let high = Shared::new(invert_bits(&low));
+        let hint = Shared::new(FrameHint {
+            telegram: Shared::from(&[1u8, 2][..]),
+            offset: 0,
+            coded: Some([low.clone(), high.clone()]),
+        });
+        let bits = if level { high.clone() } else { low.clone() };
+        let seg = LineSegment {
+            hint: Some(hint),
+            ..LineSegment::steady(
+                Instant::ZERO,
+                Duration::from_picos(62_500),
+                LineSignal::Bits(bits),
+                level,
+            )
+        };
+        (seg, low, high)
+    }
+
+    fn bits_of(seg: &LineSegment) -> &Shared<BitVec> {
+        match &seg.signal {
+            LineSignal::Bits(b) => b,
+            _ => panic!("bits"),
+        }
+    }
+
+    /// 410B §2 TxD (NRZI): inverting a segment whose bits are one of its hint's codings
+    /// shares the other, from either level and back; bits that are not the hint's (the
+    /// same levels in another allocation, or other levels) are inverted themselves.
+    #[test]
+    fn inverting_shares_the_hints_other_coding_only_for_its_own_bits() {
+        for level in [false, true] {
+            let (seg, low, high) = hinted(level);
+            let inv = seg.clone().inverted();
+            let (own, other) = if level { (&high, &low) } else { (&low, &high) };
+            assert!(Shared::ptr_eq(bits_of(&seg), own));
+            assert!(Shared::ptr_eq(bits_of(&inv), other), "level {level}");
+            assert_eq!(inv.level_before, !level);
+            let back = inv.inverted();
+            assert!(Shared::ptr_eq(bits_of(&back), own), "level {level}");
+            assert_eq!(back, seg);
+            // The same levels, not the hint's allocation: inverted, not shared.
+            let mut copy = seg.clone();
+            copy.signal = LineSignal::Bits(Shared::new((**own).clone()));
+            let inv = copy.inverted();
+            assert!(!Shared::ptr_eq(bits_of(&inv), other));
+            assert_eq!(**bits_of(&inv), **other);
+            // Other levels under the same hint (a fault injector that kept it): their own
+            // inversion.
+            let mut changed = (**own).clone();
+            changed.push(true);
+            let mut seg = seg.clone();
+            seg.signal = LineSignal::Bits(Shared::new(changed.clone()));
+            assert_eq!(**bits_of(&seg.inverted()), invert_bits(&changed));
         }
     }
 }

@@ -10,7 +10,7 @@
 use sercos_wire::time::{Duration, Instant};
 
 use super::coded_frames::CodedFrames;
-use super::segment::{FrameHint, LineSegment, LineSignal, Shared};
+use super::segment::{LineSegment, LineSignal, Shared};
 use crate::chip::earliest;
 use crate::first_queue::FirstQueue;
 
@@ -39,7 +39,7 @@ struct Own {
     bit_time: Duration,
     /// Send the pre-frame sync word first (1H.8 PRESYNC).
     presync: bool,
-    /// ADR and data, shared with the segment's [`FrameHint`].
+    /// ADR and data, shared with its coded bits and hint (`CodedFrames::coded`).
     telegram: Shared<[u8]>,
     /// Line bits (sync word, flags, stuffed data and FCS).
     len: u64,
@@ -126,11 +126,7 @@ impl Own {
             bit_time: self.bit_time,
             signal: LineSignal::Bits(c.bits),
             level_before: level,
-            hint: Some(FrameHint {
-                telegram: self.telegram,
-                offset: c.offset,
-                twin: c.twin,
-            }),
+            hint: Some(c.hint),
             distorted: false,
             then_filler: false,
         })

@@ -99,11 +99,11 @@ pub fn try_hinted_frame(start: Instant, bytes: &[u8]) -> Option<LineSegment> {
         bit_time: Duration::from_picos(62_500),
         signal: LineSignal::Bits(Shared::new(bits)),
         level_before: false,
-        hint: Some(FrameHint {
+        hint: Some(Shared::new(FrameHint {
             telegram: Shared::from(bytes),
             offset: 0,
-            twin: None,
-        }),
+            coded: None,
+        })),
         distorted: false,
         then_filler: false,
     })
