@@ -145,6 +145,24 @@ fn follow(
 }
 
 impl Node {
+    /// The chip's AT from `start` to `end` sent on past its output floor `before` by the
+    /// fast path (`send_on_plain`, `send_through`, a run of them): the output's reach moves
+    /// to `end`. Returns the fast path's collisions it makes (`SimStats::fast_path_collisions`):
+    /// one when it cut a telegram the fast path put out ahead of the chip (`route_output`),
+    /// one more when it is `held` behind another at a repeater's output (`repeat_out`).
+    #[inline(always)]
+    pub(crate) fn sent_through(
+        &mut self,
+        start: Instant,
+        before: Instant,
+        end: Instant,
+        held: bool,
+    ) -> u64 {
+        let cut = start < before && before > self.chip_out_end;
+        self.chip_out_end = end;
+        u64::from(cut) + u64::from(held)
+    }
+
     /// Node time of an input segment starting at `start` (simulation time). The line's bit
     /// times are not scaled by the node's clock error (spec-notes "Own clocks"), so the
     /// bits of a segment take the same time in both; a segment that starts where the last

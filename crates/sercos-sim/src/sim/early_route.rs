@@ -184,15 +184,7 @@ impl Simulation {
         // `send_on_plain`: the output after the AT.
         node.resume = if seg.then_filler { None } else { Some(end) };
         // `send_through`.
-        if seg.start < before && before > node.chip_out_end {
-            // It cut a telegram the fast path put out ahead of the chip (`route_output`).
-            self.stats.fast_path_collisions += 1;
-        }
-        node.chip_out_end = end;
-        if held {
-            // A telegram held behind another at a repeater's output (`repeat_out`).
-            self.stats.fast_path_collisions += 1;
-        }
+        self.stats.fast_path_collisions += node.sent_through(seg.start, before, end, held);
         run.pass = Some(super::plain_pass::PlainPass {
             entry: j,
             start_in: seg.start,
@@ -232,11 +224,7 @@ impl Simulation {
         debug_assert!(node.expect.is_empty(), "a copy expected on the fast path");
         debug_assert!(!node.track_levels, "levels followed on the fast path");
         node.resume = if seg.then_filler { None } else { Some(end) };
-        if seg.start < before && before > node.chip_out_end {
-            // It cut a telegram the fast path put out ahead of the chip (`route_output`).
-            self.stats.fast_path_collisions += 1;
-        }
-        node.chip_out_end = end;
+        self.stats.fast_path_collisions += node.sent_through(seg.start, before, end, false);
         self.close_run(run);
         // `send_on_plain`'s `set` of this floor: the last pass no longer stands if it
         // covered it.
@@ -363,15 +351,7 @@ impl Simulation {
         let Some(node) = self.nodes.get_mut(j) else {
             return false;
         };
-        if seg.start < before && before > node.chip_out_end {
-            // It cut a telegram the fast path put out ahead of the chip (`route_output`).
-            self.stats.fast_path_collisions += 1;
-        }
-        node.chip_out_end = end;
-        if held {
-            // A telegram held behind another at a repeater's output (`repeat_out`).
-            self.stats.fast_path_collisions += 1;
-        }
+        self.stats.fast_path_collisions += node.sent_through(seg.start, before, end, held);
         // `out + len` is below the prefix sums' safe bound (`send_through`): no sum
         // saturated, the pass is kept as `pass_plain_ending` keeps it.
         self.plain_pass = Some(super::plain_pass::PlainPass {

@@ -82,6 +82,16 @@ pub(super) struct OutFloors {
 }
 
 impl OutFloors {
+    /// Debug builds: a copy of the floors with `t`'s run written back as the uniform run
+    /// from `from` to `to` at `offset` (what `close_through` would leave), to compare a
+    /// step of a run sent through with the general `set` and `pass`.
+    #[cfg(debug_assertions)]
+    fn with_run(&self, from: usize, to: usize, offset: i128) -> Self {
+        let mut f = self.clone();
+        f.uniform = Some(Uniform { from, to, offset });
+        f
+    }
+
     /// `n` floors at time zero; `fibre_into[m]` is the delay of the fibre into node `m`.
     pub(super) fn new(n: usize, fibre_into: impl Iterator<Item = Duration>) -> Self {
         OutFloors {
@@ -393,12 +403,7 @@ impl OutFloors {
         }
         #[cfg(debug_assertions)]
         let general = {
-            let mut f = self.clone();
-            f.uniform = Some(Uniform {
-                from: j,
-                to,
-                offset: t.offset,
-            });
+            let mut f = self.with_run(j, to, t.offset);
             debug_assert_eq!(f.get(j), Some(Instant::from_picos(before)), "floor {j}");
             f.set(j, left);
             let seg = Crossing {
@@ -424,12 +429,7 @@ impl OutFloors {
         {
             let (f, want) = general;
             debug_assert_eq!(got, want, "a telegram sent through in a run of them");
-            let mut mine = self.clone();
-            mine.uniform = Some(Uniform {
-                from: t.next,
-                to,
-                offset: t.offset,
-            });
+            let mine = self.with_run(t.next, to, t.offset);
             for m in 0..to {
                 debug_assert_eq!(mine.get(m), f.get(m), "floor {m} in a run sent through");
             }
@@ -452,12 +452,7 @@ impl OutFloors {
         let before = u64::try_from(q + t.offset).ok()?;
         #[cfg(debug_assertions)]
         let general = {
-            let mut f = self.clone();
-            f.uniform = Some(Uniform {
-                from: j,
-                to,
-                offset: t.offset,
-            });
+            let mut f = self.with_run(j, to, t.offset);
             debug_assert_eq!(f.get(j), Some(Instant::from_picos(before)), "floor {j}");
             f.set(j, left);
             f
