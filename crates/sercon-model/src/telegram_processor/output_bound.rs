@@ -318,10 +318,8 @@ pub(crate) fn data_written(chip: &Chip, from: u32, len: usize) {
 pub(crate) fn status_written(chip: &Chip, from: u32, len: usize) {
     if !matches!(chip.layout.get(), Some((true, _))) {
         ram_written(chip, from, len);
-        return;
-    }
-    #[cfg(debug_assertions)]
-    if let Some(m) = chip.tp.tx_ahead.get()
+    } else if cfg!(debug_assertions)
+        && let Some(m) = chip.tp.tx_ahead.get()
         && let Some(b) = &chip.tp.block
         && let Some(Cur::Rx { hdr, .. }) = b.cur
         && m.block == b.block
