@@ -448,6 +448,8 @@ impl Engine {
     /// syncs").
     // 410B §4.2.1 TRT "after end of MST": the MST synchronises the slave (spec-notes
     // "slave cycle").
+    // Inlined into its one call, `crate::mst::mst_end` (docs/performance.md, session 30).
+    #[inline(always)]
     pub(crate) fn sync_cycle(&mut self, at: u64, block: u8) {
         // A quiet end before `at` was applied before the telegram processor's step.
         debug_assert!(
@@ -494,6 +496,7 @@ impl Engine {
     /// so only INT0 / INT1 can change (`Chip::advance_to` settles those after the
     /// processor's steps). Otherwise the memo is dropped, as the general way does. Debug
     /// builds run the general way on a copy and compare the whole engine.
+    #[inline(always)]
     fn sync_after_end(&mut self, at: u64, block: u8) -> bool {
         // 410B §4.1 0FH/10H: the block's TSCYC; TCNT starts at TCNTST (spec-notes "TCNT").
         let block = block & 1;

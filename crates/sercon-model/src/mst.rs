@@ -56,6 +56,10 @@ fn tscyc_us(chip: &Chip) -> u64 {
 }
 
 /// An MST ended at `tick` (slave): phase, time check, cycle synchronisation.
+// One call out of `Chip::advance_to` with the cycle's synchronisation, the block's start and
+// its first header's load inlined into it, instead of three calls from inside it
+// (docs/performance.md, session 30, slavesteps).
+#[inline(never)]
 pub(crate) fn mst_end(chip: &mut Chip, tick: u64, fcs_ok: bool, bytes: &[u8]) {
     let s = chip.engine.s;
     if !s.is_sercos_slave() || !fcs_ok {

@@ -760,7 +760,7 @@ fn step_rest(chip: &mut Chip, tick: u64) {
         && t == tick
     {
         chip.tp.pending_block = None;
-        start_block(chip, tick, block);
+        start_pending_block(chip, tick, block);
         return;
     }
     if chip.tp.mst.deadline == Some(tick) {
@@ -938,8 +938,18 @@ fn set_cur(chip: &mut Chip, cur: Option<Cur>) {
     }
 }
 
+/// [`start_block`] out of line, for a block that starts at the end of the chip's own MST or
+/// at its cycle start (`on_cycle_start`, [`step`]'s pending block): the master's.
+#[inline(never)]
+fn start_pending_block(chip: &mut Chip, tick: u64, block: u8) {
+    start_block(chip, tick, block);
+}
+
 /// Starts processing transmission block `block` at `tick` (the end of the MST).
 // 410B §4.1 0CH.2-3 COMBLK0/1, §4.2 COMPT0-1 "Start of transmission blocks 0-1".
+// Inlined into a slave's MST end (`crate::mst::mst_end`), with the first header's load; out
+// of line for the master's step (`start_pending_block`): docs/performance.md, session 30.
+#[inline(always)]
 pub(crate) fn start_block(chip: &mut Chip, tick: u64, block: u8) {
     if chip.tp.block.is_some() {
         // The previous block has not reached its end marker: its telegrams overlap the
@@ -1004,7 +1014,7 @@ fn abort_loading(chip: &mut Chip, tick: u64) {
 /// Reads the header at `ptr` (410B §4.2.1 PT: "Word address within the RAM of the next
 /// telegram header or the end marker") and makes it current.
 // Inlined into `advance` and `start_block`: one call less per header (performance.md
-// "loadcur").
+// "loadcur"), a receive header's decoding with it (`load_rx`).
 #[inline(always)]
 fn load(chip: &mut Chip, tick: u64, ptr: u16) {
     let limit = max_steps(chip);
@@ -1102,7 +1112,10 @@ fn load_tx(chip: &mut Chip, tick: u64, ptr: u16, ref_tick: u64, w: [u16; 4]) {
 }
 
 /// Makes the receive header at `ptr` (its words `w`) current (`load`).
-#[inline(never)]
+// Inlined into `load` (session 26 measured it out of line as cheaper; with a slave's block
+// start inlined into its MST's end and the master's AT headers loaded in `advance`, inline
+// is −0.4 % on ring-8 and −0.5 % on ring-254: docs/performance.md, session 30).
+#[inline(always)]
 fn load_rx(chip: &mut Chip, tick: u64, ptr: u16, ref_tick: u64, w: [u16; 5]) {
     // 410B §4.2.1 receive header; the kind was classified by `header_words`, so it
     // decodes (word 0 kept whole, `RxHead`).
