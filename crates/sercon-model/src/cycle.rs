@@ -48,6 +48,9 @@ pub(crate) struct CycleState {
 
 impl Engine {
     /// The MCLK tick at which offset `e` of `run` falls.
+    // Inlined: a slave's MST end (`crate::mst::mst_end`, the short cycle sync's quiet end)
+    // makes no call of its own but this one (docs/performance.md, session 30).
+    #[inline(always)]
     pub(crate) fn e_tick(&self, run: &Run, e: u64) -> u64 {
         if e <= run.ref_e {
             run.ref_tick
