@@ -29,9 +29,9 @@ import re
 import signal
 import subprocess
 
-STD = ("option.rs", "cmp.rs", "function.rs", "mod.rs", "index.rs", "uint_macros.rs", "zip.rs",
-       "cell.rs", "bool.rs", "num.rs", "range.rs", "non_null.rs", "result.rs", "rc.rs",
-       "macros.rs", "intrinsics.rs", "mem.rs", "ptr.rs")
+# Frames from the standard library are told by their path (the toolchain's sources: `/rustc/…`
+# or a `rustlib` source directory), not by their file name: `mod.rs` is also the project's.
+STD_PATHS = ("/rustc/", "/rustlib/", "/library/core/", "/library/alloc/", "/library/std/")
 
 
 def costs(path, pattern):
@@ -81,7 +81,12 @@ def frames(binary, addrs):
             if pending is None:
                 pending = line.split("(")[0].split("::")[-1]
             else:
-                out[cur].append(f"{pending}@{line.split('/')[-1].split(' ')[0]}")
+                path = line.split(" ")[0]
+                # Standard-library frames are marked `STD/`; the project's keep their
+                # directory, so that `telegram_processor/mod.rs` is not any `mod.rs`.
+                where = ("STD/" + path.split("/")[-1] if any(s in path for s in STD_PATHS)
+                         else "/".join(path.split("/")[-2:]))
+                out[cur].append(f"{pending}@{where}")
                 pending = None
     return out
 
@@ -119,7 +124,7 @@ def main():
             key = chain[-2] if len(chain) >= 2 else chain[-1] + " (itself)"
             key = key.split("@")[0]
         else:
-            key = next((x for x in chain if x.split("@")[-1].split(":")[0] not in STD), chain[0])
+            key = next((x for x in chain if not x.split("@")[-1].startswith("STD/")), chain[0])
         agg[key] += v
     for key, v in agg.most_common(a.top):
         print(f"{v:8.1f} {key}")
