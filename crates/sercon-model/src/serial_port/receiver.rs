@@ -67,6 +67,13 @@ pub(crate) struct Receiver {
     /// once, and how to take it back if the next segment starts no later than the filler
     /// (then there was none).
     implied: Option<ImpliedFiller>,
+    /// `implied` and `timeout` are not written yet: they are the ones the filler of
+    /// `ready` gives ([`Receiver::filler_to_filler`] leaves them to
+    /// [`Receiver::write_implied`], before anything reads them: the general path, a FIBBR
+    /// deadline, the comparisons of debug builds). `implied` holds an older record of a
+    /// filler without a decoder meanwhile (what `decoding` and `frame_in_progress` read of
+    /// it is the same).
+    implied_unwritten: bool,
     /// The receiver's own part of [`Receiver::is_filler_to_filler`], kept as the state
     /// changes ([`Receiver::compute_ready`]): where the implied filler running starts, the
     /// bit time of the segment it follows and the level its bits leave the line at, when the
@@ -222,8 +229,48 @@ impl Receiver {
             .is_some_and(|level| level != seg.level_before)
     }
 
+    /// Writes `implied` and `timeout` as [`Receiver::filler_to_filler`] left them to be
+    /// written (`implied_unwritten`): the record of the running filler of `ready` (410B §4.1
+    /// 2H.13: the FIBBR deadline the bits' last edge set, a bit time before the filler's
+    /// start, which the filler's first edge cleared; nothing else scheduled) and the FIBBR
+    /// timeout at its bit time.
+    #[inline]
+    fn write_implied(&mut self) {
+        if !self.implied_unwritten {
+            return;
+        }
+        self.implied_unwritten = false;
+        let Some(r) = self.ready else {
+            debug_assert!(false, "an unwritten implied filler without its filler");
+            return;
+        };
+        self.timeout = r.bit_time.saturating_mul(FIBBR_BIT_TIMES);
+        let fibbr_deadline = Some(
+            r.at.saturating_sub_bits(r.bit_time)
+                .saturating_add(self.timeout),
+        );
+        if let Some(u) = self.implied.as_mut() {
+            // The record of a filler without a decoder (`ready`), written over in place:
+            // nothing of it to drop.
+            debug_assert!(u.running.is_none());
+            u.at = r.at;
+            u.fibbr_deadline = fibbr_deadline;
+            u.fibbr_future = false;
+            u.rdist = None;
+        } else {
+            self.implied = Some(ImpliedFiller {
+                at: r.at,
+                fibbr_deadline,
+                fibbr_future: false,
+                running: None,
+                rdist: None,
+            });
+        }
+    }
+
     /// The FIBBR deadline has passed without an edge: FIBBR is now set.
     pub(crate) fn deadline_fired(&mut self) {
+        self.write_implied();
         self.fibbr_deadline = None;
         self.fibbr_future = true;
         // FIBBR is set: no filler runs (410B §4.1 2H.13).
@@ -235,18 +282,24 @@ impl Receiver {
     /// or after it), with no FIBBR deadline nor rise pending.
     fn compute_ready(&self) -> Option<Ready> {
         let last = self.last.as_ref()?;
-        let implied = self.implied.as_ref()?;
+        // The implied filler's start and whether it runs without a decoder: an unwritten
+        // record's are `ready`'s (`write_implied`).
+        let (at, plain) = match (self.implied_unwritten, self.ready, self.implied.as_ref()) {
+            (true, Some(r), _) => (r.at, true),
+            (false, _, Some(implied)) => (implied.at, implied.running.is_none()),
+            _ => return None,
+        };
         (self.open_filler
             && !self.fibbr_future
             && self.running.is_none()
-            && implied.running.is_none()
+            && plain
             && last.then_filler
             && !last.distorted
             && last.bit_time.as_picos() > 0)
             .then(|| Ready {
-                at: implied.at,
+                at,
                 bit_time: last.bit_time,
-                level: last.level_at(implied.at),
+                level: last.level_at(at),
             })
     }
 
@@ -310,6 +363,7 @@ impl Receiver {
         events: &mut LineEvents,
         frames: &mut F,
     ) {
+        self.write_implied();
         if let Some(undo) = self.implied.take()
             && seg.start <= undo.at
         {
@@ -404,7 +458,6 @@ impl Receiver {
         // A filler has edges every bit time: no deadline while one runs.
         debug_assert!(self.fibbr_deadline.is_none());
         let bt = seg.bit_time;
-        self.timeout = bt.saturating_mul(FIBBR_BIT_TIMES);
         let end = seg.end().unwrap_or(seg.start);
         if let Some(hint) = &seg.hint {
             deliver_hinted(&seg, hint, end, events, frames);
@@ -413,26 +466,12 @@ impl Receiver {
         let level = seg.level_after_bits().unwrap_or(seg.level_before);
         self.last = Some(seg);
         self.level_memo.set(None);
-        // The bits' last edge set the deadline the filler's first edge then clears.
-        let fibbr_deadline = Some(end.saturating_sub_bits(bt).saturating_add(self.timeout));
-        if let Some(u) = self.implied.as_mut() {
-            // The previous filler's record (`ready`: one without a decoder), written over in
-            // place: nothing of it to drop.
-            debug_assert!(u.running.is_none());
-            u.at = end;
-            u.fibbr_deadline = fibbr_deadline;
-            u.fibbr_future = false;
-            u.rdist = None;
-        } else {
-            self.implied = Some(ImpliedFiller {
-                at: end,
-                fibbr_deadline,
-                fibbr_future: false,
-                running: None,
-                rdist: None,
-            });
-        }
-        // The state `compute_ready` finds: this telegram's implied filler runs.
+        // The state `compute_ready` finds: this telegram's implied filler runs. Its record
+        // for taking it back (the previous one's written over: `ready` is one without a
+        // decoder) and the FIBBR timeout at its bit time are what `ready` gives: written
+        // when read (`write_implied`).
+        debug_assert!(self.implied.as_ref().is_some_and(|u| u.running.is_none()));
+        self.implied_unwritten = true;
         self.ready = Some(Ready {
             at: end,
             bit_time: bt,
@@ -459,6 +498,12 @@ impl Receiver {
     /// What the receiver's state says, for comparisons in debug builds and tests.
     #[cfg(any(test, debug_assertions))]
     fn digest(&self) -> String {
+        if self.implied_unwritten {
+            // What is there once written (`write_implied`).
+            let mut written = self.clone();
+            written.write_implied();
+            return written.digest();
+        }
         format!(
             "{:?} {:?} {} {} {:?} {:?}",
             self.last
@@ -1198,6 +1243,46 @@ mod tests {
             let taken = compare(&ring).unwrap_or_else(|e| panic!("{e}"));
             assert!(taken >= 10, "taken {taken} times");
         }
+    }
+
+    /// The filler-to-filler path leaves the implied filler's record and the FIBBR timeout
+    /// unwritten (`implied_unwritten`); written (`Receiver::write_implied`) they are what the
+    /// general path wrote, and the next input the general path takes (a telegram cut short
+    /// by the next, which takes the filler back, 410B §4.1 2H.13) writes them before it
+    /// reads them.
+    #[test]
+    fn an_unwritten_implied_filler_is_the_general_paths() {
+        let cfg = cfg(1);
+        let timeout = BT.saturating_mul(FIBBR_BIT_TIMES);
+        let mut fast = Receiver::new(Instant::ZERO, timeout);
+        let mut general = Receiver::new(Instant::ZERO, timeout);
+        let (mut ev_fast, mut ev_general) = (LineEvents::default(), LineEvents::default());
+        let mut end = Instant::from_picos(1_000_000);
+        let mut unwritten = 0;
+        for (i, gap) in [8, 9, 10, 11, -3, 10].into_iter().enumerate() {
+            let start = start_after(end, gap);
+            let level = fast.level_at(start).unwrap_or(false);
+            let seg = segment(0, start, 30, level);
+            end = seg.end().unwrap_or(start);
+            let mut none = |_f: HeardFrame| {};
+            let sinks = Sinks {
+                events: &mut ev_fast,
+                frames: &mut none,
+            };
+            let short = fast.input::<false, _>(seg.clone(), &cfg, sinks);
+            general.input_general(seg, &cfg, &mut ev_general, &mut none);
+            // The first telegram finds no filler running; the one cut short (gap -3) takes
+            // the general path.
+            assert_eq!(short, i != 0 && gap > 0, "step {i}");
+            assert_eq!(fast.implied_unwritten, short, "step {i}");
+            unwritten += u32::from(fast.implied_unwritten);
+            let mut written = fast.clone();
+            written.write_implied();
+            assert!(!written.implied_unwritten);
+            assert_eq!(written.digest(), general.digest(), "step {i}");
+            assert_eq!(written.timeout, general.timeout, "step {i}");
+        }
+        assert_eq!(unwritten, 4);
     }
 
     /// The level of a running implied filler found from its start (`Ready::level_at`, used
