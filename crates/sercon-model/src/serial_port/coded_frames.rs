@@ -33,6 +33,16 @@ pub(crate) struct Coded {
     pub(crate) hint: Shared<FrameHint>,
 }
 
+/// A telegram as [`CodedFrames::lookup`] finds it: coded before (its hint, with its bits
+/// from both levels), or only its shared bytes (coded when it is released).
+#[derive(Debug, Clone)]
+pub(crate) enum Known {
+    /// The hint of a telegram coded before ([`FrameHint::coded`] set).
+    Coded(Shared<FrameHint>),
+    /// The telegram's shared bytes.
+    Bytes(Shared<[u8]>),
+}
+
 /// The telegrams sent lately (round robin).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct CodedFrames {
@@ -41,15 +51,19 @@ pub(crate) struct CodedFrames {
 }
 
 impl CodedFrames {
-    /// The shared bytes of `telegram` and its length in line bits (with the sync word if
-    /// `presync`).
-    pub(crate) fn lookup(&mut self, telegram: &[u8], presync: bool) -> (Shared<[u8]>, u64) {
+    /// `telegram` as remembered (its hint when it was coded before, else its shared bytes)
+    /// and its length in line bits (with the sync word if `presync`).
+    pub(crate) fn lookup(&mut self, telegram: &[u8], presync: bool) -> (Known, u64) {
         if let Some(e) = self
             .entries
             .iter()
             .find(|e| e.presync == presync && *e.telegram == *telegram)
         {
-            return (e.telegram.clone(), e.len);
+            let known = match &e.hint {
+                Some(hint) => Known::Coded(hint.clone()),
+                None => Known::Bytes(e.telegram.clone()),
+            };
+            return (known, e.len);
         }
         let sync = if presync { PRESYNC_BITS } else { 0 };
         let entry = Entry {
@@ -58,7 +72,7 @@ impl CodedFrames {
             len: sync + frame_bit_len(telegram),
             hint: None,
         };
-        let found = (entry.telegram.clone(), entry.len);
+        let found = (Known::Bytes(entry.telegram.clone()), entry.len);
         if self.entries.len() < ENTRIES {
             self.entries.push(entry);
         } else if let Some(slot) = self.entries.get_mut(self.next) {
@@ -71,18 +85,32 @@ impl CodedFrames {
     /// The NRZI bits of `telegram` (as given by [`CodedFrames::lookup`]) on a line at
     /// light level `level` before the first bit and the telegram's hint: the offset of the
     /// opening flag and, when the telegram is remembered, its bits from both levels;
-    /// `None` when it cannot be encoded.
+    /// `None` when it cannot be encoded. A telegram found coded takes its bits from its
+    /// hint, without a search.
     // Inlined at every call: with the release's second own-telegram turn
     // (`Transmitter::release_merged_then_own`) LLVM kept it out of line, which cost more
     // than that turn saves.
     #[inline(always)]
     pub(crate) fn coded(
         &mut self,
-        telegram: &Shared<[u8]>,
+        telegram: Known,
         presync: bool,
         len: u64,
         level: bool,
     ) -> Option<Coded> {
+        let telegram = match telegram {
+            Known::Coded(hint) => {
+                let bits = hint.coded.as_ref()?[usize::from(level)].clone();
+                debug_assert_eq!(
+                    encode(&hint.telegram, presync, len, level).map(|(b, o)| ((*b).clone(), o)),
+                    Some(((*bits).clone(), hint.offset)),
+                    "a coded telegram's bits from its hint"
+                );
+                return Some(Coded { bits, hint });
+            }
+            Known::Bytes(telegram) => telegram,
+        };
+        let telegram = &telegram;
         let Some(entry) = self
             .entries
             .iter_mut()
@@ -168,6 +196,14 @@ mod tests {
         }
     }
 
+    /// The shared bytes of a telegram as found.
+    fn bytes(known: &Known) -> &Shared<[u8]> {
+        match known {
+            Known::Coded(hint) => &hint.telegram,
+            Known::Bytes(bytes) => bytes,
+        }
+    }
+
     /// 410B §2 TxD (NRZI): the twin, made by inverting, equals a fresh encoding from the
     /// other level, with and without the sync word, whichever level is asked for first.
     #[test]
@@ -177,7 +213,12 @@ mod tests {
             let mut c = CodedFrames::default();
             let (t, len) = c.lookup(&mst, presync);
             for level in [true, false, true, false] {
-                let coded = c.coded(&t, presync, len, level).expect("encodable");
+                // Found coded (after the first turn) and by its bytes: the same.
+                let (known, _) = c.lookup(&mst, presync);
+                let coded = c.coded(known, presync, len, level).expect("encodable");
+                let by_bytes = c.coded(t.clone(), presync, len, level).expect("encodable");
+                assert!(Shared::ptr_eq(&coded.bits, &by_bytes.bits));
+                assert!(Shared::ptr_eq(&coded.hint, &by_bytes.hint));
                 let (fresh, fresh_offset) = encode(&mst, presync, len, level).expect("encodable");
                 assert_eq!(*coded.bits, *fresh, "presync {presync}, level {level}");
                 assert_eq!(coded.hint.offset, fresh_offset);
@@ -194,7 +235,10 @@ mod tests {
         let mst = [255u8, 4];
         let (t, len) = c.lookup(&mst, false);
         for level in [false, true, false, true] {
-            let coded = c.coded(&t, false, len, level).expect("encodable");
+            let coded = c.coded(t.clone(), false, len, level).expect("encodable");
+            // Remembered coded from now on, with that hint.
+            let (known, _) = c.lookup(&mst, false);
+            assert!(matches!(&known, Known::Coded(h) if Shared::ptr_eq(h, &coded.hint)));
             let (fresh, fresh_offset) = encode(&mst, false, len, level).expect("encodable");
             assert_eq!(*coded.bits, *fresh);
             assert_eq!(coded.hint.offset, fresh_offset);
@@ -204,8 +248,8 @@ mod tests {
             assert_eq!(*twin, fresh.inverted());
         }
         // The same bytes share the first allocation; other bytes or a sync word do not.
-        assert!(Shared::ptr_eq(&c.lookup(&mst, false).0, &t));
-        assert!(!Shared::ptr_eq(&c.lookup(&mst, true).0, &t));
+        assert!(Shared::ptr_eq(bytes(&c.lookup(&mst, false).0), bytes(&t)));
+        assert!(!Shared::ptr_eq(bytes(&c.lookup(&mst, true).0), bytes(&t)));
         assert_eq!(c.lookup(&mst, true).1, len + PRESYNC_BITS);
     }
 
@@ -215,7 +259,7 @@ mod tests {
         for n in 0..(3 * ENTRIES as u8) {
             let tel = [n, n.wrapping_mul(7), 0x7E];
             let (t, len) = c.lookup(&tel, false);
-            let coded = c.coded(&t, false, len, true).expect("encodable");
+            let coded = c.coded(t, false, len, true).expect("encodable");
             assert_eq!(
                 *coded.bits,
                 *encode(&tel, false, len, true).expect("encodable").0

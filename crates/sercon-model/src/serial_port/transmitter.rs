@@ -9,8 +9,8 @@
 
 use sercos_wire::time::{Duration, Instant};
 
-use super::coded_frames::CodedFrames;
-use super::segment::{LineSegment, LineSignal, Shared};
+use super::coded_frames::{CodedFrames, Known};
+use super::segment::{LineSegment, LineSignal};
 use crate::chip::earliest;
 use crate::first_queue::FirstQueue;
 
@@ -39,8 +39,8 @@ struct Own {
     bit_time: Duration,
     /// Send the pre-frame sync word first (1H.8 PRESYNC).
     presync: bool,
-    /// ADR and data, shared with its coded bits and hint (`CodedFrames::coded`).
-    telegram: Shared<[u8]>,
+    /// ADR and data as remembered: shared, or coded before (its hint, `CodedFrames::coded`).
+    telegram: Known,
     /// Line bits (sync word, flags, stuffed data and FCS).
     len: u64,
 }
@@ -120,7 +120,7 @@ impl Own {
     // than that turn saves.
     #[inline(always)]
     fn segment(self, level: bool, coded: &mut CodedFrames) -> Option<LineSegment> {
-        let c = coded.coded(&self.telegram, self.presync, self.len, level)?;
+        let c = coded.coded(self.telegram, self.presync, self.len, level)?;
         Some(LineSegment {
             start: self.start,
             bit_time: self.bit_time,
