@@ -396,6 +396,16 @@ impl SerialPort {
         self.tx.take_released(out);
     }
 
+    /// [`SerialPort::take_output`] by [`Transmitter::release_own_first`]: for a take that
+    /// mostly finds the one own telegram queued and nothing else (a ring master's).
+    pub(crate) fn take_output_own_first(&mut self, now: Instant, out: &mut Vec<LineSegment>) {
+        if !self.output_due(now) {
+            return;
+        }
+        self.tx.release_own_first(now);
+        self.tx.take_released(out);
+    }
+
     /// When the next not yet released output segment starts.
     pub(crate) fn next_output_at(&self) -> Option<Instant> {
         self.tx.next_release_at()

@@ -451,6 +451,28 @@ impl Transmitter {
         );
     }
 
+    /// [`Transmitter::release`] for a take that mostly finds the one own telegram queued
+    /// and nothing else (a ring master's: its MST or MDT, 410B §4.1 0CH, §4.2.1):
+    /// [`Transmitter::release_sole_own`] first, the loop after it when that does not finish
+    /// the release. Debug builds run the general loop on a copy and compare the whole state.
+    pub(crate) fn release_own_first(&mut self, now: Instant) {
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut general = self.separate();
+            general.release_with::<false>(now);
+            format!("{general:?}")
+        };
+        if !self.release_sole_own(now) {
+            self.release_with::<true>(now);
+        }
+        #[cfg(debug_assertions)]
+        debug_assert_eq!(
+            general,
+            format!("{:?}", self.separate()),
+            "the release of a sole own telegram differs from the general loop"
+        );
+    }
+
     /// [`Transmitter::release`]; `SHORT`: with its short paths (a run of carried copies
     /// followed as one, the silent resume after an own telegram taken with it), which leave
     /// the same state as the general loop's turns one by one.
@@ -476,38 +498,7 @@ impl Transmitter {
                 let Some(own) = self.own.pop_front() else {
                     break;
                 };
-                // The NRZI coder continues from the level the line is at.
-                let level = self.level_at(t);
-                let Some(mut seg) = own.segment(level, &mut self.coded) else {
-                    continue;
-                };
-                if self.last_is_bg {
-                    // The background in effect is about to be shadowed: keep it for the
-                    // resume (its start has passed, so the hint it lost is not needed).
-                    self.bg_active = self.last_out.take();
-                    self.last_inv = false;
-                }
-                self.own_until = seg.end().unwrap_or(t);
-                self.resume_at = Some(self.own_until);
-                // The background resumed after it is plain filler of the same bit time
-                // (410B §1: a master's idle filler, or the filler a slave repeats, "or send
-                // their own telegrams"): it travels with the telegram (spec-notes "Implied
-                // filler"), and the resume sends nothing unless that changes.
-                self.silent_resume = self.implied_filler
-                    && self
-                        .bg_active
-                        .as_ref()
-                        .is_some_and(|bg| resumes_filler(bg, self.own_until, seg.bit_time));
-                seg.then_filler = self.silent_resume;
-                let open = seg.then_filler;
-                self.emit(seg);
-                self.implied_open = open;
-                if SHORT && open && self.own_until <= now && self.resume_stays_silent() {
-                    // The silent resume (spec-notes "Implied filler") is due: what its turn
-                    // does, without the turn.
-                    self.resume_at = None;
-                    self.silent_resume = false;
-                }
+                self.release_own::<SHORT>(own, t, now);
             } else if bg_at == Some(t) {
                 if let Some((tail, tail_inv)) = self.tail.take() {
                     // The background's only entry and the copy merged after it, followed as
@@ -625,6 +616,73 @@ impl Transmitter {
             }
         }
         self.next_release = self.compute_next_release();
+    }
+
+    /// The release loop's turn for the own telegram `own` due at `t`, popped from the queue.
+    #[inline(always)]
+    fn release_own<const SHORT: bool>(&mut self, own: Own, t: Instant, now: Instant) {
+        // The NRZI coder continues from the level the line is at.
+        let level = self.level_at(t);
+        let Some(mut seg) = own.segment(level, &mut self.coded) else {
+            return;
+        };
+        if self.last_is_bg {
+            // The background in effect is about to be shadowed: keep it for the
+            // resume (its start has passed, so the hint it lost is not needed).
+            self.bg_active = self.last_out.take();
+            self.last_inv = false;
+        }
+        self.own_until = seg.end().unwrap_or(t);
+        self.resume_at = Some(self.own_until);
+        // The background resumed after it is plain filler of the same bit time
+        // (410B §1: a master's idle filler, or the filler a slave repeats, "or send
+        // their own telegrams"): it travels with the telegram (spec-notes "Implied
+        // filler"), and the resume sends nothing unless that changes.
+        self.silent_resume = self.implied_filler
+            && self
+                .bg_active
+                .as_ref()
+                .is_some_and(|bg| resumes_filler(bg, self.own_until, seg.bit_time));
+        seg.then_filler = self.silent_resume;
+        let open = seg.then_filler;
+        self.emit(seg);
+        self.implied_open = open;
+        if SHORT && open && self.own_until <= now && self.resume_stays_silent() {
+            // The silent resume (spec-notes "Implied filler") is due: what its turn
+            // does, without the turn.
+            self.resume_at = None;
+            self.silent_resume = false;
+        }
+    }
+
+    /// The loop's turns when the one own telegram queued is all there is (a master's take).
+    #[inline(always)]
+    fn release_sole_own(&mut self, now: Instant) -> bool {
+        let Some(t) = self.own.front().map(|o| o.start) else {
+            return false;
+        };
+        if !self.own.is_single()
+            || !self.background.is_empty()
+            || self.tail.is_some()
+            || t > now
+            || self.resume_at.is_some_and(|r| !self.silent_resume || r > t)
+        {
+            return false;
+        }
+        self.resume_at = None;
+        self.silent_resume = false;
+        let Some(own) = self.own.pop_front() else {
+            return false;
+        };
+        self.release_own::<true>(own, t, now);
+        match self.resume_at {
+            Some(r) if r > now => {
+                self.next_release = Some(r);
+                debug_assert_eq!(self.next_release, self.compute_next_release());
+                true
+            }
+            _ => false,
+        }
     }
 
     /// The release loop's first two turns when they are a merged follow and then the first
@@ -1220,6 +1278,10 @@ mod tests {
                         let until = at(now, 0).saturating_add(Duration::from_picos(BT / 2 * u64::from(half)));
                         let mut general = plain.clone();
                         general.release_with::<false>(until);
+                        // The own-first release (a master's take) from the same state.
+                        let mut first = tx.clone();
+                        first.release_own_first(until);
+                        prop_assert_eq!(format!("{general:?}"), format!("{:?}", first.separate()));
                         tx.release_with::<true>(until);
                         prop_assert_eq!(format!("{general:?}"), format!("{:?}", tx.separate()));
                         plain.release_with::<true>(until);

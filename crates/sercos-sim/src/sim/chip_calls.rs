@@ -54,8 +54,10 @@ pub(super) fn take(j: usize, chip: &mut Chip, t: Instant, out: &mut Vec<LineSegm
         split::slave_take(chip, t, out)
     }
     #[cfg(not(feature = "split-profile"))]
-    {
-        let _ = j;
+    if j == 0 {
+        // The master's take: its MST or MDT (410B §4.1 0CH, §4.2.1), mostly alone.
+        chip.take_own_line_output_until(t, out)
+    } else {
         chip.take_line_output_until(t, out)
     }
 }
@@ -97,7 +99,7 @@ mod split {
     #[inline(never)]
     pub(super) fn master_take(chip: &mut Chip, t: Instant, out: &mut Vec<LineSegment>) {
         black_box(5u8);
-        chip.take_line_output_until(t, out)
+        chip.take_own_line_output_until(t, out)
     }
 
     #[inline(never)]
