@@ -188,6 +188,30 @@ impl OutFloors {
         c
     }
 
+    /// The ceiling after slave `j`'s floor was set to `left` (`q_in`: its prefix sum) and
+    /// the floors of the repeaters after it, one run before, were raised to `run_offset`
+    /// over the hops (a telegram sent through, 410B §1: they repeat it by their hops): the
+    /// run's new offset is at or above its old one, which the ceiling counted, so the
+    /// ceiling is the old one, `left`'s offset and `run_offset`, whichever is highest.
+    /// Unknown before (or `j` the master, whose floor it does not count): unknown after.
+    #[inline]
+    fn raise_ceiling(&mut self, j: usize, left: Instant, q_in: i128, run_offset: i128) {
+        self.ceiling = match self.ceiling {
+            Some(c) if j > 0 => Some(c.max(i128::from(left.as_picos()) - q_in).max(run_offset)),
+            _ => None,
+        };
+    }
+
+    /// Debug builds: the ceiling kept is the one found again from the floors of `f` (a
+    /// copy of these floors with every run written back).
+    #[cfg(debug_assertions)]
+    fn debug_check_ceiling(&self, mut f: Self) {
+        if let Some(kept) = self.ceiling {
+            f.ceiling = None;
+            debug_assert_eq!(Some(kept), Some(f.ceiling()), "the ceiling kept");
+        }
+    }
+
     /// The highest `floor(m) − prefix[m]` over `run` (floors written out; `i128::MIN` for
     /// none).
     fn highest(&self, run: Range<usize>) -> i128 {
@@ -299,6 +323,7 @@ impl OutFloors {
         let (Some(q_in), Some(q_out)) = (self.prefix.get(j), self.prefix.get(to - 1)) else {
             return None;
         };
+        let (q_in, q_out) = (*q_in, *q_out);
         let before = u64::try_from(q_in + u.offset).ok()?;
         let offset = i128::from(seg.start.as_picos()) - q_in;
         let reached = offset.max(u.offset);
@@ -329,7 +354,7 @@ impl OutFloors {
             to,
             offset: reached + len_ps,
         });
-        self.ceiling = None;
+        self.raise_ceiling(j, left, q_in, reached + len_ps);
         let got = (
             Instant::from_picos(u64::try_from(out).unwrap_or(0)),
             u.offset > offset,
@@ -341,6 +366,7 @@ impl OutFloors {
             for m in 0..self.floors.len() {
                 debug_assert_eq!(self.get(m), f.get(m), "floor {m} after a send-through");
             }
+            self.debug_check_ceiling(self.clone());
         }
         Some((Instant::from_picos(before), got.0, got.1))
     }
@@ -363,7 +389,8 @@ impl OutFloors {
         let q_out = *self.prefix.get(to - 1)?;
         self.write_range(u, u.from, from);
         self.uniform = None;
-        self.ceiling = None;
+        // The floors keep their values (the run's are kept in `Through`): so does the
+        // ceiling, kept by every telegram sent through the run.
         Some(Through {
             next: from,
             offset: u.offset,
@@ -425,6 +452,14 @@ impl OutFloors {
         );
         t.next = j + 1;
         t.offset = reached + len_ps;
+        // The ceiling kept is the run's at its opening: the floor's old offset, dropped,
+        // was at most `t.offset`, which only rises; the floor's new one is at most the
+        // offset the telegram leaves after it (`reached` is at least its start's), unless
+        // `left` is past the telegram's end. So the ceiling now is the kept one and
+        // `t.offset`, the higher ([`OutFloors::close_through`]).
+        if left > start.saturating_add(len) {
+            self.ceiling = None;
+        }
         #[cfg(debug_assertions)]
         {
             let (f, want) = general;
@@ -433,6 +468,10 @@ impl OutFloors {
             for m in 0..to {
                 debug_assert_eq!(mine.get(m), f.get(m), "floor {m} in a run sent through");
             }
+            let kept = self.ceiling;
+            let mut now = mine;
+            now.ceiling = kept.map(|c| c.max(t.offset));
+            now.debug_check_ceiling(now.clone());
         }
         Some((Instant::from_picos(before), got.0, got.1))
     }
@@ -461,13 +500,25 @@ impl OutFloors {
             *f = left;
         }
         t.next = to;
+        // The ceiling kept (the run's at its opening, `OutFloors::through_next`) and the
+        // offsets dropped since, each at most the floor's old one (`t.offset`), which may
+        // have been the highest: kept only where the new one is at or above it.
+        let left_offset = i128::from(left.as_picos()) - q;
+        self.ceiling = self
+            .ceiling
+            .filter(|_| j > 0 && left_offset >= t.offset)
+            .map(|c| c.max(left_offset));
         #[cfg(debug_assertions)]
-        for m in 0..to {
-            debug_assert_eq!(
-                self.floors.get(m),
-                general.get(m).as_ref(),
-                "floor {m} after the last slave's telegram in a run"
-            );
+        {
+            for m in 0..to {
+                debug_assert_eq!(
+                    self.floors.get(m),
+                    general.get(m).as_ref(),
+                    "floor {m} after the last slave's telegram in a run"
+                );
+            }
+            // Every floor written out (the run is empty now).
+            self.debug_check_ceiling(self.clone());
         }
         Some(Instant::from_picos(before))
     }
@@ -482,7 +533,12 @@ impl OutFloors {
             to,
             offset: t.offset,
         });
-        self.ceiling = None;
+        // The ceiling kept through the run and its floors' offset (`through_next`).
+        if t.next < to {
+            self.ceiling = self.ceiling.map(|c| c.max(t.offset));
+        }
+        #[cfg(debug_assertions)]
+        self.debug_check_ceiling(self.clone());
     }
 
     /// Starts a sweep: a segment carried hop by hop through repeaters in ring order (a
