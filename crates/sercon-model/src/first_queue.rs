@@ -6,14 +6,14 @@
 //! both followed at its take). Their first entry is then a load, and a push onto an empty
 //! queue or a pop of the only entry a write or a read of that place, without a ring
 //! buffer's index arithmetic (the transmitter's `OwnQueue` found the same for its own
-//! telegrams). What goes behind the first, and moves up when the first is taken, is handled
-//! out of line. In every other respect the same queue as a `VecDeque<T>` (tested against
+//! telegrams). What goes behind the first is pushed inline; what moves up when the first is
+//! taken is handled out of line. In every other respect the same queue as a `VecDeque<T>` (tested against
 //! one below).
 
 use std::collections::VecDeque;
 
-/// A `VecDeque<T>` with its first entry in place. `REST_INLINE`: what goes behind the first
-/// and moves up is handled inline too (the transmitter's own telegrams: a master queues
+/// A `VecDeque<T>` with its first entry in place. `REST_INLINE`: what moves up from behind
+/// the first is handled inline too (the transmitter's own telegrams: a master queues
 /// several a cycle, measured cheaper so; the other queues hold one, mostly, and keep that
 /// path out of line).
 #[derive(Debug, Clone)]
@@ -54,24 +54,17 @@ impl<T, const REST_INLINE: bool> FirstQueue<T, REST_INLINE> {
     }
 
     /// Appends `entry`: in place when the queue is empty, the usual case (written there
-    /// from the caller's registers); behind the first out of line.
+    /// from the caller's registers); otherwise behind the first.
     #[inline(always)]
     pub(crate) fn push_back(&mut self, entry: T) {
         if self.first.is_none() {
             debug_assert!(self.rest.is_empty());
             self.first = Some(entry);
-        } else if REST_INLINE {
-            self.rest.push_back(entry);
         } else {
-            self.push_behind(entry);
+            // Inline for every queue (session 30: out of line it cost the master's eight ATs
+            // a call each).
+            self.rest.push_back(entry);
         }
-    }
-
-    /// [`FirstQueue::push_back`] behind the first.
-    #[cold]
-    #[inline(never)]
-    fn push_behind(&mut self, entry: T) {
-        self.rest.push_back(entry);
     }
 
     /// Removes and returns the first entry; the next one, if any, moves into its place out

@@ -1013,7 +1013,7 @@ fn abort_loading(chip: &mut Chip, tick: u64) {
 
 /// Reads the header at `ptr` (410B §4.2.1 PT: "Word address within the RAM of the next
 /// telegram header or the end marker") and makes it current.
-// Inlined into `advance` and `start_block`: one call less per header (performance.md
+// Inlined into `advance`, `start_block` and `transmit::start`: one call less per header (performance.md
 // "loadcur"), a receive header's decoding with it (`load_rx`).
 #[inline(always)]
 fn load(chip: &mut Chip, tick: u64, ptr: u16) {

@@ -95,7 +95,7 @@ pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHead) {
     if let Some(b) = chip.tp.block.as_mut() {
         b.last_end = b.last_end.max(end);
     }
-    advance(chip, tick, hdr.pt);
+    super::load(chip, tick, hdr.pt);
     // A transmit telegram after this one cannot start before this one has ended.
     if let Some(super::Block {
         cur: Some(Cur::Tx { start, .. }),
