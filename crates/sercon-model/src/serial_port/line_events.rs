@@ -469,6 +469,7 @@ mod tests {
             let mut upto = 0u64;
             let mut latest = 0u64;
             let mut own_end = 0u64;
+            let mut pulse_end = 0u64;
             for step in 0..240 {
                 match next() % 8 {
                     0 => {
@@ -501,6 +502,20 @@ mod tests {
                         let (s, e) = (Instant::from_picos(start), Instant::from_picos(own_end));
                         loud.push_own_idle(s, e);
                         quiet.push_own_idle(s, e);
+                    }
+                    5 => {
+                        // A received telegram's REACTN pulse (410B §2 REACTN), mostly after
+                        // the one before as the receiver schedules them (ended by the
+                        // applied instant or not yet: a batch), now and then not, sometimes
+                        // before the applied instant.
+                        let mut low = (upto + next() % 7).saturating_sub(2);
+                        if next() % 4 != 0 {
+                            low = low.max(pulse_end);
+                        }
+                        pulse_end = low + next() % 6;
+                        let (l, e) = (Instant::from_picos(low), Instant::from_picos(pulse_end));
+                        loud.push_reactn_pulse(l, e);
+                        quiet.push_reactn_pulse(l, e);
                     }
                     _ => {
                         // Mostly ahead of the applied instant, sometimes out of order,
