@@ -123,16 +123,24 @@ impl LineEvents {
 
     /// Schedules a received telegram's REACTN pulse (410B §2 REACTN: low from `low` while
     /// the telegram is received, high again from `end`): the two changes [`LineEvents::push`]
-    /// schedules for them, one after the other; quiet, appended in one go
-    /// (`QuietPins::push_reactn_pulse`).
+    /// schedules for them, one after the other; quiet, kept as a pulse or appended in one
+    /// go (`QuietPins::push_reactn_pulse`).
     #[inline(always)]
     pub(crate) fn push_reactn_pulse(&mut self, low: Instant, end: Instant) {
-        if self.pins_loud {
-            self.push(low, Change::Reactn(false));
-            self.push(end, Change::Reactn(true));
-            return;
+        // The usual case first: loud, no pulse is kept, so this keeps none.
+        let kept = self.quiet.push_reactn_pulse_kept(low, end);
+        debug_assert!(
+            !(kept && self.pins_loud),
+            "a pulse kept while the pins are loud"
+        );
+        if !kept {
+            if self.pins_loud {
+                self.push(low, Change::Reactn(false));
+                self.push(end, Change::Reactn(true));
+                return;
+            }
+            self.quiet.push_reactn_pulse_rest(low, end);
         }
-        self.quiet.push_reactn_pulse(low, end);
         #[cfg(debug_assertions)]
         {
             self.shadow.0.push(low, Change::Reactn(false));
@@ -144,12 +152,20 @@ impl LineEvents {
     /// telegram is sent, 1 from `end`); quiet, they are kept as the interval
     /// (`QuietPins::push_own`).
     pub(crate) fn push_own_idle(&mut self, start: Instant, end: Instant) {
-        if self.pins_loud {
-            self.push(start, Change::Idle(false));
-            self.push(end, Change::Idle(true));
-            return;
+        // The usual case first: loud, no interval is kept, so this keeps none.
+        let kept = self.quiet.push_own_kept(start, end);
+        debug_assert!(
+            !(kept && self.pins_loud),
+            "an own interval kept while the pins are loud"
+        );
+        if !kept {
+            if self.pins_loud {
+                self.push(start, Change::Idle(false));
+                self.push(end, Change::Idle(true));
+                return;
+            }
+            self.quiet.push_own(start, end);
         }
-        self.quiet.push_own(start, end);
         #[cfg(debug_assertions)]
         {
             self.shadow.0.push(start, Change::Idle(false));
@@ -324,7 +340,7 @@ impl LineEvents {
         };
         #[cfg(not(debug_assertions))]
         let _ = levels;
-        self.quiet.apply_folds(t);
+        self.quiet.apply_to(t);
         #[cfg(debug_assertions)]
         {
             let mut b = *self.shadow.1.get_or_insert(levels);
@@ -477,7 +493,10 @@ mod tests {
                         upto += next() % 5;
                         let t = Instant::from_picos(upto);
                         apply_loud(&mut loud, t, &mut loud_levels);
-                        quiet.apply_quiet_pins(t, &mut quiet_levels);
+                        // As the port applies them (`SerialPort::apply_pin_levels`).
+                        if !quiet.apply_quiet_pins_unfolded(t, quiet_levels) {
+                            quiet.apply_quiet_pins(t, &mut quiet_levels);
+                        }
                     }
                     1 => {
                         // A collision cuts what the receiver scheduled.

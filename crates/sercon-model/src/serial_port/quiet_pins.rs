@@ -126,27 +126,25 @@ impl QuietPins {
     /// (every pulse the receiver schedules: it falls with the opening flag's end or the
     /// frame's, whichever comes first) it is kept as the pulse `pulse` when it comes after
     /// every REACTN change kept (telegrams are received one after the other), else appended
-    /// in one go; debug builds compare the levels with the two pushes.
-    #[inline(always)]
+    /// in one go ([`QuietPins::push_reactn_pulse_kept`], else
+    /// [`QuietPins::push_reactn_pulse_rest`]).
+    #[cfg(test)]
     pub(crate) fn push_reactn_pulse(&mut self, low: Instant, end: Instant) {
-        #[cfg(debug_assertions)]
-        let general = {
-            let mut general = self.clone();
-            general.push(low, Change::Reactn(false));
-            general.push(end, Change::Reactn(true));
-            general
-        };
-        self.push_reactn_pulse_unchecked(low, end);
-        #[cfg(debug_assertions)]
-        self.check_levels_against(&general, [low, end]);
+        if !self.push_reactn_pulse_kept(low, end) {
+            self.push_reactn_pulse_rest(low, end);
+        }
     }
 
-    /// [`QuietPins::push_reactn_pulse`] without its check: inline when the new pulse comes
-    /// after the one kept, which is over by the applied instant with none before it (a
-    /// slave's usual case) or not over yet (telegrams received in a batch); the rest out of
-    /// line.
+    /// [`QuietPins::push_reactn_pulse`] when the new pulse comes after the one kept, which is
+    /// over by the applied instant with none before it (a slave's usual case) or not over
+    /// yet (telegrams received in a batch): kept in place, inline. Returns whether it was;
+    /// `false` leaves everything as it was. No pulse is kept while the pins are loud
+    /// (`take_pending` put it into the list), so it is `false` then. Debug builds compare
+    /// the levels with the two pushes.
     #[inline(always)]
-    fn push_reactn_pulse_unchecked(&mut self, low: Instant, end: Instant) {
+    pub(crate) fn push_reactn_pulse_kept(&mut self, low: Instant, end: Instant) -> bool {
+        #[cfg(debug_assertions)]
+        let general = self.pushed_pulse(low, end);
         let applied = self.applied;
         if let Some((l, e)) = self.pulse
             && applied <= low
@@ -157,23 +155,46 @@ impl QuietPins {
                     // REACTN is 1 from the end of the pulse kept until the new one falls.
                     self.pulse_ended = Some(e);
                     self.pulse = Some((low, end));
-                    return;
+                    #[cfg(debug_assertions)]
+                    self.check_levels_against(&general, [low, end]);
+                    return true;
                 }
             } else if low >= e {
                 // After the one kept, which has not ended (telegrams received in a batch,
                 // a master's ATs).
                 self.pulses.push((l, e));
                 self.pulse = Some((low, end));
-                return;
+                #[cfg(debug_assertions)]
+                self.check_levels_against(&general, [low, end]);
+                return true;
             }
         }
-        self.push_reactn_pulse_other(low, end);
+        false
     }
 
-    /// [`QuietPins::push_reactn_pulse_unchecked`] out of line.
+    /// Debug builds: a copy with the pulse's two changes pushed one by one.
+    #[cfg(debug_assertions)]
+    fn pushed_pulse(&self, low: Instant, end: Instant) -> QuietPins {
+        let mut general = self.clone();
+        general.push(low, Change::Reactn(false));
+        general.push(end, Change::Reactn(true));
+        general
+    }
+
+    /// [`QuietPins::push_reactn_pulse`] out of line, in every case; debug builds compare
+    /// the levels with the two pushes.
     #[cold]
     #[inline(never)]
-    fn push_reactn_pulse_other(&mut self, low: Instant, end: Instant) {
+    pub(crate) fn push_reactn_pulse_rest(&mut self, low: Instant, end: Instant) {
+        #[cfg(debug_assertions)]
+        let general = self.pushed_pulse(low, end);
+        self.push_reactn_pulse_unchecked(low, end);
+        #[cfg(debug_assertions)]
+        self.check_levels_against(&general, [low, end]);
+    }
+
+    /// [`QuietPins::push_reactn_pulse_rest`] without its check.
+    fn push_reactn_pulse_unchecked(&mut self, low: Instant, end: Instant) {
         if low > end {
             self.push(low, Change::Reactn(false));
             self.push(end, Change::Reactn(true));
@@ -244,6 +265,9 @@ impl QuietPins {
     /// the interval `own` when they come after every IDLE change kept (the usual case: the
     /// transmitter places a telegram after the one it sends), else as the two changes.
     pub(crate) fn push_own(&mut self, start: Instant, end: Instant) {
+        if self.push_own_kept(start, end) {
+            return;
+        }
         let (start, end) = (start.max(self.applied), end.max(self.applied));
         if let Some((_, e)) = self.own {
             if e <= self.applied {
@@ -263,6 +287,27 @@ impl QuietPins {
             return;
         }
         self.own = Some((start, end));
+    }
+
+    /// [`QuietPins::push_own`] when the interval kept has ended by the applied instant and
+    /// the new one starts no earlier (the usual case): it replaces it, inline. Returns
+    /// whether it did; `false` leaves everything as it was. No interval is kept while the
+    /// pins are loud (`take_pending` put it into the list), so it is `false` then.
+    #[inline(always)]
+    pub(crate) fn push_own_kept(&mut self, start: Instant, end: Instant) -> bool {
+        let applied = self.applied;
+        if let Some((_, e)) = self.own
+            && e <= applied
+            && applied <= start
+            && start <= end
+        {
+            // After every IDLE change kept, as the one it replaces: IDLE is 1 until it
+            // starts.
+            self.own_ended = Some(e);
+            self.own = Some((start, end));
+            return true;
+        }
+        false
     }
 
     /// Puts the own interval (and the end it replaced) into `changes` as the changes it
@@ -334,6 +379,14 @@ impl QuietPins {
             }
         }
         latest.map_or(base, |(_, level)| level)
+    }
+
+    /// The changes up to `t`, at or after the applied instant (the chip's time, which only
+    /// moves on), count from now on; the list is not folded.
+    #[inline]
+    pub(crate) fn apply_to(&mut self, t: Instant) {
+        debug_assert!(t >= self.applied, "quiet pins applied back in time");
+        self.applied = t;
     }
 
     /// The changes up to `t` count from now on; returns whether the list has grown long
@@ -460,6 +513,24 @@ mod tests {
         pushed.push(at(50), Change::Reactn(true));
         assert!(!pushed.level(PinLine::Reactn, true));
         assert!(!pulsed.level(PinLine::Reactn, true));
+    }
+
+    /// 410B §2 IDLE: an own interval given with its end before its start (the transmitter
+    /// places none so; kept exact) reads as its two changes, IDLE 0 from its start on, also
+    /// after an interval that has ended.
+    #[test]
+    fn an_own_interval_ending_before_it_starts_reads_as_its_two_changes() {
+        let (mut kept, mut pushed) = (QuietPins::default(), QuietPins::default());
+        let (mut lk, mut lp) = ((true, true), (true, true));
+        for (start, end, applied) in [(1, 2, 5), (8, 6, 10)] {
+            kept.push_own(at(start), at(end));
+            pushed.push(at(start), Change::Idle(false));
+            pushed.push(at(end), Change::Idle(true));
+            kept.apply(at(applied), &mut lk);
+            pushed.apply(at(applied), &mut lp);
+        }
+        assert!(!pushed.level(PinLine::Idle, lp.0));
+        assert!(!kept.level(PinLine::Idle, lk.0));
     }
 
     /// The pulses kept while one had not ended (a batch) are dropped once the last one is
