@@ -274,8 +274,12 @@ impl Transmitter {
                 } else {
                     chained_inversion(&b.seg, start, seg)
                 };
-                // `tail` is empty (above): set without a drop of what it held.
-                self.tail.get_or_insert_with(|| (copy(), inv));
+                // `tail` is empty (above): set without a drop of what it held (no drop
+                // glue's call; `get_or_insert_with` went out of line, a plain assignment
+                // keeps the drop). What is forgotten is that `None`: nothing leaks.
+                let before = self.tail.replace((copy(), inv));
+                debug_assert!(before.is_none(), "the merged copy's place was empty");
+                std::mem::forget(before);
                 debug_assert_eq!(self.next_release, self.compute_next_release());
                 return;
             }
