@@ -8,7 +8,7 @@
 
 use sercos_wire::line::{BitVec, Coding, Encoder, LineConfig, Polarity, frame_bit_len};
 
-use super::{FrameHint, PRESYNC_BITS, Shared};
+use super::{Codings, FrameHint, PRESYNC_BITS, Shared};
 
 /// Telegrams remembered (a master's MST and MDTs, a slave's ATs: a handful per cycle).
 const ENTRIES: usize = 8;
@@ -100,7 +100,7 @@ impl CodedFrames {
     ) -> Option<Coded> {
         let telegram = match telegram {
             Known::Coded(hint) => {
-                let bits = hint.coded.as_ref()?[usize::from(level)].clone();
+                let bits = hint.coded.as_ref()?.bits()[usize::from(level)].clone();
                 debug_assert_eq!(
                     encode(&hint.telegram, presync, len, level).map(|(b, o)| ((*b).clone(), o)),
                     Some(((*bits).clone(), hint.offset)),
@@ -130,7 +130,7 @@ impl CodedFrames {
                 .hint
                 .insert(code_both(&entry.telegram, presync, len, level)?),
         };
-        let bits = hint.coded.as_ref()?[usize::from(level)].clone();
+        let bits = hint.coded.as_ref()?.bits()[usize::from(level)].clone();
         Some(Coded {
             bits,
             hint: hint.clone(),
@@ -156,7 +156,7 @@ fn code_both(
     Some(Shared::new(FrameHint {
         telegram: telegram.clone(),
         offset,
-        coded: Some(coded),
+        coded: Some(Codings::new(coded)),
     }))
 }
 
@@ -187,7 +187,7 @@ mod tests {
     /// The bits of a remembered telegram from the other level than `coded.bits`, checking
     /// that `coded.bits` are the hint's own.
     fn twin_of(coded: &Coded) -> Shared<BitVec> {
-        let [low, high] = coded.hint.coded.clone().expect("remembered");
+        let [low, high] = coded.hint.coded.clone().expect("remembered").bits().clone();
         if Shared::ptr_eq(&coded.bits, &low) {
             high
         } else {

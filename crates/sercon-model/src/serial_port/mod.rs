@@ -19,7 +19,7 @@ use sercos_wire::time::{BitRate, Duration, Instant};
 
 use crate::chip::earliest;
 use crate::config::Straps;
-pub use segment::{FrameHint, LineSegment, LineSignal, Shared};
+pub use segment::{Codings, FrameHint, LineSegment, LineSignal, Shared};
 
 use line_events::{Change, LineEvents};
 use port_config::{PortConfig, TxMode};

@@ -459,11 +459,21 @@ impl Receiver {
         debug_assert!(self.fibbr_deadline.is_none());
         let bt = seg.bit_time;
         let end = seg.end().unwrap_or(seg.start);
+        let mut level = None;
         if let Some(hint) = &seg.hint {
             deliver_hinted(&seg, hint, end, events, frames);
+            // The sender's coding (`FrameHint::coded`) knows where its bits leave the line.
+            if let LineSignal::Bits(b) = &seg.signal {
+                level = hint.end_level(b, seg.level_before);
+            }
         }
         // A telegram (`is_filler_to_filler`): its bits' last level is there.
-        let level = seg.level_after_bits().unwrap_or(seg.level_before);
+        let level = level.unwrap_or_else(|| seg.level_after_bits().unwrap_or(seg.level_before));
+        debug_assert_eq!(
+            level,
+            seg.level_after_bits().unwrap_or(seg.level_before),
+            "the level after the bits"
+        );
         self.last = Some(seg);
         self.level_memo.set(None);
         // The state `compute_ready` finds: this telegram's implied filler runs. Its record

@@ -65,7 +65,39 @@ pub struct FrameHint {
     /// has them at hand: [`LineSegment::inverted`] of a segment whose bits are one of them
     /// shares the other instead of copying. A cache, not part of what the hint says (`==`
     /// ignores it).
-    pub coded: Option<[Shared<BitVec>; 2]>,
+    pub coded: Option<Codings>,
+}
+
+/// A telegram's bits coded from both levels before the first bit ([`FrameHint::coded`]),
+/// with the level each leaves the line at after its last bit.
+#[derive(Debug, Clone)]
+pub struct Codings {
+    /// Index 0: from low, 1: from high.
+    bits: [Shared<BitVec>; 2],
+    /// The level after the last bit of each of `bits` (its level before without bits):
+    /// what a receiver keeps for the filler after the telegram (410B §4.1 1H.12, 2H.13).
+    ends: [bool; 2],
+}
+
+impl Codings {
+    /// The codings `[from low, from high]`.
+    pub fn new(bits: [Shared<BitVec>; 2]) -> Self {
+        let end = |b: &BitVec, before: bool| match b.len().checked_sub(1) {
+            Some(i) => usize::try_from(i)
+                .ok()
+                .and_then(|i| b.bits().get(i))
+                .unwrap_or(before),
+            None => before,
+        };
+        let [low, high] = &bits;
+        let ends = [end(low, false), end(high, true)];
+        Codings { bits, ends }
+    }
+
+    /// The bits `[from low, from high]`.
+    pub fn bits(&self) -> &[Shared<BitVec>; 2] {
+        &self.bits
+    }
 }
 
 impl FrameHint {
@@ -73,9 +105,25 @@ impl FrameHint {
     /// those from `level` (the same allocation): `bits` inverted.
     #[inline(always)]
     fn inverse_of(&self, bits: &Shared<BitVec>, level: bool) -> Option<&Shared<BitVec>> {
-        let [low, high] = self.coded.as_ref()?;
+        let [low, high] = &self.coded.as_ref()?.bits;
         let (this, other) = if level { (high, low) } else { (low, high) };
         Shared::ptr_eq(bits, this).then_some(other)
+    }
+
+    /// The level `bits` leave the line at after their last bit, when they are the coding of
+    /// [`FrameHint::coded`] from `level` (the same allocation; [`LineSegment::level_after_bits`]
+    /// of a segment of them, found without a look at the bits).
+    #[inline(always)]
+    pub(crate) fn end_level(&self, bits: &Shared<BitVec>, level: bool) -> Option<bool> {
+        let c = self.coded.as_ref()?;
+        let [low, high] = &c.bits;
+        let [low_end, high_end] = c.ends;
+        let (this, end) = if level {
+            (high, high_end)
+        } else {
+            (low, low_end)
+        };
+        Shared::ptr_eq(bits, this).then_some(end)
     }
 }
 
@@ -382,7 +430,7 @@ mod tests {
         let hint = Shared::new(FrameHint {
             telegram: Shared::from(&[1u8, 2][..]),
             offset: 0,
-            coded: Some([low.clone(), high.clone()]),
+            coded: Some(Codings::new([low.clone(), high.clone()])),
         });
         let bits = if level { high.clone() } else { low.clone() };
         let seg = LineSegment {
@@ -401,6 +449,44 @@ mod tests {
         match &seg.signal {
             LineSignal::Bits(b) => b,
             _ => panic!("bits"),
+        }
+    }
+
+    /// 410B §4.1 (1H.12, 2H.13: the filler after a telegram keeps the level its last bit
+    /// leaves): a hint's codings know that level from either level before, the same as
+    /// [`LineSegment::level_after_bits`]; bits that are not the coding from that level (the
+    /// other one, or a copy) get no answer.
+    #[test]
+    fn a_hints_codings_know_the_level_after_their_bits() {
+        for n in [0usize, 1, 2, 22, 23] {
+            let mut low = BitVec::new();
+            for i in 0..n {
+                low.push(i % 3 == 0);
+            }
+            let low = Shared::new(low);
+            let high = Shared::new(invert_bits(&low));
+            let hint = FrameHint {
+                telegram: Shared::from(&[1u8, 2][..]),
+                offset: 0,
+                coded: Some(Codings::new([low.clone(), high.clone()])),
+            };
+            for level in [false, true] {
+                let (own, other) = if level { (&high, &low) } else { (&low, &high) };
+                let seg = LineSegment::steady(
+                    Instant::ZERO,
+                    Duration::from_picos(62_500),
+                    LineSignal::Bits(own.clone()),
+                    level,
+                );
+                assert_eq!(
+                    hint.end_level(own, level),
+                    seg.level_after_bits(),
+                    "{n} {level}"
+                );
+                assert_eq!(hint.end_level(other, level), None, "{n} {level}");
+                let copy = Shared::new((**own).clone());
+                assert_eq!(hint.end_level(&copy, level), None, "{n} {level}");
+            }
         }
     }
 
