@@ -55,8 +55,13 @@ pub(crate) struct QuietPins {
     /// would hold, and comes after every IDLE change in `changes`, in time and as scheduled
     /// (spec-notes "Own IDLE interval").
     own: Option<(Instant, Instant)>,
-    /// The end of the own interval `own` replaced, which was at or before the applied
-    /// instant then: IDLE is 1 before `own` whatever `changes` and the base say.
+    /// The own interval before `own`, not over at the applied instant when `own` came (a
+    /// master queues its MDT while its MST is sent): ending no later than `own` starts,
+    /// after every IDLE change in `changes`; `None` while `own` is.
+    own_before: Option<(Instant, Instant)>,
+    /// The end of the own interval `own` (and `own_before`) replaced, which was at or
+    /// before the applied instant then: IDLE is 1 before them whatever `changes` and the
+    /// base say.
     own_ended: Option<Instant>,
     /// The latest received telegram's REACTN pulse (410B §2 REACTN: low while a telegram is
     /// received): 0 from the first instant, 1 again from the second, both no earlier than
@@ -83,6 +88,7 @@ impl Default for QuietPins {
             unsorted: false,
             applied: Instant::default(),
             own: None,
+            own_before: None,
             own_ended: None,
             pulse: None,
             pulses: Vec::new(),
@@ -271,8 +277,10 @@ impl QuietPins {
         let (start, end) = (start.max(self.applied), end.max(self.applied));
         if let Some((_, e)) = self.own {
             if e <= self.applied {
-                // Its end counts already: IDLE is 1 until the new one starts.
+                // Its end (and the one's before it) counts already: IDLE is 1 until the new
+                // one starts.
                 self.own = None;
+                self.own_before = None;
                 self.own_ended = Some(e);
             } else {
                 self.flush_own();
@@ -289,31 +297,65 @@ impl QuietPins {
         self.own = Some((start, end));
     }
 
-    /// [`QuietPins::push_own`] when the interval kept has ended by the applied instant and
-    /// the new one starts no earlier (the usual case): it replaces it, inline. Returns
-    /// whether it did; `false` leaves everything as it was. No interval is kept while the
-    /// pins are loud (`take_pending` put it into the list), so it is `false` then.
+    /// [`QuietPins::push_own`] when the new interval starts no earlier than the applied
+    /// instant and than the interval kept ends (the usual case), inline: when that one has
+    /// ended by the applied instant, the new one replaces it (and the one before it); when
+    /// not (a master's MDT queued while its MST is sent), it moves to `own_before`, where
+    /// the one before it has ended. Returns whether it did; `false` leaves everything as it
+    /// was. No interval is kept while the pins are loud (`take_pending` put it into the
+    /// list), so it is `false` then. Debug builds compare the levels with the two pushes.
     #[inline(always)]
     pub(crate) fn push_own_kept(&mut self, start: Instant, end: Instant) -> bool {
+        #[cfg(debug_assertions)]
+        let general = self.pushed_own(start, end);
         let applied = self.applied;
-        if let Some((_, e)) = self.own
-            && e <= applied
+        if let Some((s, e)) = self.own
             && applied <= start
             && start <= end
         {
-            // After every IDLE change kept, as the one it replaces: IDLE is 1 until it
-            // starts.
-            self.own_ended = Some(e);
-            self.own = Some((start, end));
-            return true;
+            if e <= applied {
+                // After every IDLE change kept, as the ones it replaces: IDLE is 1 until it
+                // starts.
+                self.own_ended = Some(e);
+                self.own_before = None;
+                self.own = Some((start, end));
+                #[cfg(debug_assertions)]
+                self.check_levels_against(&general, [start, end]);
+                return true;
+            }
+            if e <= start && self.own_before.is_none_or(|(_, b)| b <= applied) {
+                // After the one kept, which has not ended; the one before that has (IDLE
+                // is 1 from its end until the one kept starts).
+                if let Some((_, b)) = self.own_before {
+                    self.own_ended = Some(b);
+                }
+                self.own_before = Some((s, e));
+                self.own = Some((start, end));
+                #[cfg(debug_assertions)]
+                self.check_levels_against(&general, [start, end]);
+                return true;
+            }
         }
         false
+    }
+
+    /// Debug builds: a copy with the own interval's two changes pushed one by one.
+    #[cfg(debug_assertions)]
+    fn pushed_own(&self, start: Instant, end: Instant) -> QuietPins {
+        let mut general = self.clone();
+        general.push(start, Change::Idle(false));
+        general.push(end, Change::Idle(true));
+        general
     }
 
     /// Puts the own interval (and the end it replaced) into `changes` as the changes it
     /// stands for.
     fn flush_own(&mut self) {
         if let Some(e) = self.own_ended.take() {
+            self.keep(e, Change::Idle(true));
+        }
+        if let Some((s, e)) = self.own_before.take() {
+            self.keep(s, Change::Idle(false));
             self.keep(e, Change::Idle(true));
         }
         if let Some((s, e)) = self.own.take() {
@@ -343,7 +385,12 @@ impl QuietPins {
         // The own interval is the latest IDLE change in time and as scheduled, the received
         // pulses the latest REACTN changes (the last one started rules).
         let (kept, ended) = match pin {
-            PinLine::Idle => (self.own, self.own_ended.is_some()),
+            PinLine::Idle => (
+                self.own
+                    .filter(|(s, _)| *s <= upto)
+                    .or(self.own_before.filter(|(s, _)| *s <= upto)),
+                self.own_ended.is_some(),
+            ),
             PinLine::Reactn => (
                 self.pulse
                     .filter(|(s, _)| *s <= upto)
@@ -429,7 +476,11 @@ impl QuietPins {
         // after them.
         self.own_ended = None;
         if self.own.is_some_and(|(_, e)| e <= upto) {
+            // Both kept are over.
             self.own = None;
+            self.own_before = None;
+        } else if self.own_before.is_some_and(|(_, e)| e <= upto) {
+            self.own_before = None;
         }
         self.pulse_ended = None;
         if self.pulse.is_some_and(|(_, e)| e <= upto) {
@@ -552,6 +603,115 @@ mod tests {
             pulsed.apply(at(30 + 10 * k), &mut levels);
             pulsed.push_reactn_pulse(at(31 + 10 * k), at(33 + 10 * k));
             assert!(pulsed.pulses.is_empty(), "pulse {k}: the ones over dropped");
+        }
+    }
+
+    /// 410B §2 IDLE: a master queues its next own telegram while the one before is sent
+    /// (its MDT during its MST): the one not over is kept before the new one, not put into
+    /// the list, and dropped once over; the levels are those of the changes pushed one by
+    /// one at every instant.
+    #[test]
+    fn an_own_interval_not_over_is_kept_before_the_next() {
+        let (mut kept, mut pushed) = (QuietPins::default(), QuietPins::default());
+        let (mut lk, mut lp) = ((true, true), (true, true));
+        // (start, end, applied before the push): the first two come while nothing has been
+        // applied, each later one while the one before is sent (or, at 12, not started yet
+        // with the one before it over). The list stays empty, nothing is folded: the levels
+        // agree from either base.
+        for (k, (start, end, applied)) in [
+            (10, 12, 5),
+            (13, 15, 5),
+            (16, 18, 12),
+            (19, 21, 17),
+            (30, 32, 25),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            kept.apply(at(applied), &mut lk);
+            pushed.apply(at(applied), &mut lp);
+            kept.push_own(at(start), at(end));
+            pushed.push(at(start), Change::Idle(false));
+            pushed.push(at(end), Change::Idle(true));
+            assert!(kept.changes.is_empty(), "interval {k}: nothing in the list");
+            if k == 1 {
+                assert!(
+                    kept.own_before.is_some(),
+                    "the first kept before the second"
+                );
+            }
+            for t in applied..40 {
+                let (mut a, mut b) = (kept.clone(), pushed.clone());
+                a.applied = at(t);
+                b.applied = at(t);
+                for base in [false, true] {
+                    assert_eq!(
+                        a.level(PinLine::Idle, base),
+                        b.level(PinLine::Idle, base),
+                        "interval {k}, read at {t} from {base}"
+                    );
+                }
+            }
+        }
+        // Three intervals each queued before the one before ends: the second not over at
+        // the third, so the first and second go into the list, and the levels still agree.
+        let (mut kept, mut pushed) = (QuietPins::default(), QuietPins::default());
+        for (start, end) in [(10, 12), (13, 15), (14, 20), (21, 22)] {
+            kept.push_own(at(start), at(end));
+            pushed.push(at(start), Change::Idle(false));
+            pushed.push(at(end), Change::Idle(true));
+        }
+        for t in 0..30 {
+            let (mut a, mut b) = (kept.clone(), pushed.clone());
+            a.applied = at(t);
+            b.applied = at(t);
+            assert_eq!(
+                a.level(PinLine::Idle, true),
+                b.level(PinLine::Idle, true),
+                "at {t}"
+            );
+        }
+        let mut levels = (true, true);
+        kept.apply(at(100), &mut levels);
+        kept.fold(&mut levels);
+        assert!(
+            kept.own.is_none() && kept.own_before.is_none(),
+            "both over, dropped"
+        );
+    }
+
+    proptest! {
+        /// 410B §2 IDLE: own intervals kept (`push_own`) give the levels their two pushes
+        /// give, whatever was kept before (IDLE changes out of time order, intervals not
+        /// over when the next comes, changes applied and folded).
+        #[test]
+        fn an_own_interval_is_its_two_pushes(
+            steps in prop::collection::vec((0u8..5, 0u64..200, 0u64..40), 1..60),
+        ) {
+            let (mut kept, mut pushed) = (QuietPins::default(), QuietPins::default());
+            let (mut lk, mut lp) = ((true, true), (true, true));
+            for (kind, a, b) in steps {
+                match kind {
+                    0 | 1 => {
+                        kept.push_own(at(a), at(a + b));
+                        pushed.push(at(a), Change::Idle(false));
+                        pushed.push(at(a + b), Change::Idle(true));
+                    }
+                    2 => {
+                        let change = Change::Idle(b % 2 == 0);
+                        kept.push(at(a), change);
+                        pushed.push(at(a), change);
+                    }
+                    _ => {
+                        kept.apply(at(a), &mut lk);
+                        pushed.apply(at(a), &mut lp);
+                    }
+                }
+                prop_assert_eq!(
+                    kept.level(PinLine::Idle, lk.0),
+                    pushed.level(PinLine::Idle, lp.0)
+                );
+            }
         }
     }
 
