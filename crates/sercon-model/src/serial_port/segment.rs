@@ -82,21 +82,27 @@ pub struct Codings {
 impl Codings {
     /// The codings `[from low, from high]`.
     pub fn new(bits: [Shared<BitVec>; 2]) -> Self {
-        let end = |b: &BitVec, before: bool| match b.len().checked_sub(1) {
-            Some(i) => usize::try_from(i)
-                .ok()
-                .and_then(|i| b.bits().get(i))
-                .unwrap_or(before),
-            None => before,
-        };
         let [low, high] = &bits;
-        let ends = [end(low, false), end(high, true)];
+        let ends = [level_after(low, false), level_after(high, true)];
         Codings { bits, ends }
     }
 
     /// The bits `[from low, from high]`.
     pub fn bits(&self) -> &[Shared<BitVec>; 2] {
         &self.bits
+    }
+}
+
+/// The level `bits` leave the line at after their last bit, `before` when there is none
+/// (410B §2 TxD: the line keeps its last level).
+#[inline(always)]
+fn level_after(bits: &BitVec, before: bool) -> bool {
+    match bits.len().checked_sub(1) {
+        Some(i) => usize::try_from(i)
+            .ok()
+            .and_then(|i| bits.bits().get(i))
+            .unwrap_or(before),
+        None => before,
     }
 }
 
@@ -324,13 +330,7 @@ impl LineSegment {
     #[inline(always)]
     pub(crate) fn level_after_bits(&self) -> Option<bool> {
         match &self.signal {
-            LineSignal::Bits(b) => Some(match b.len().checked_sub(1) {
-                Some(i) => usize::try_from(i)
-                    .ok()
-                    .and_then(|i| b.bits().get(i))
-                    .unwrap_or(self.level_before),
-                None => self.level_before,
-            }),
+            LineSignal::Bits(b) => Some(level_after(b, self.level_before)),
             _ => None,
         }
     }
