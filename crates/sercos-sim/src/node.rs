@@ -100,6 +100,12 @@ pub(crate) struct Node {
     /// The host's wake under way, suspended in a bus access (`sim/host_run.rs`): it is not
     /// woken again meanwhile.
     pub(crate) host_run: Option<Box<crate::host_coroutine::HostRun>>,
+    /// No pin traced (`vcd`), no host wake under way (`host_run`), no second wake pending
+    /// (`rewake`) and no deadline (`host_deadline`): kept by [`Node::note_host`] wherever
+    /// one of them changes (a wake under way taken out of its node to go on is put back or
+    /// ends in [`Node::woke`]), so that [`Node::quiet_host`] asks one field for the four
+    /// (debug builds compare them).
+    pub(crate) host_idle: bool,
 }
 
 /// The ends of a drifting node's last input and output segments of bits, in simulation
@@ -287,6 +293,7 @@ impl Node {
             is_rewake: false,
             vcd: None,
             host_run: None,
+            host_idle: true,
         }
     }
 
@@ -318,7 +325,7 @@ impl Node {
                 int0: ints.0,
                 int1: ints.1,
             })
-        } else if std::mem::take(&mut self.rewake) && self.interrupt_requested() {
+        } else if self.take_rewake() && self.interrupt_requested() {
             // Looked at once, when the wake has ended: a request that rises later changes a
             // pin from what the host saw (the first case) if the pin shows it at all.
             self.rewaking = true;
@@ -328,6 +335,7 @@ impl Node {
             })
         } else if self.host_deadline.is_some_and(|d| d <= self.chip.now()) {
             self.host_deadline = None;
+            self.note_host();
             Some(Wake::Deadline)
         } else {
             None
@@ -352,7 +360,26 @@ impl Node {
     /// receive log: no pin is traced, no suspended host's access has ended, and
     /// [`Node::host_due`] would find nothing (INT0/INT1
     /// as the host last saw them, no second wake pending, its deadline not passed).
+    ///
+    /// Short path: an idle host (`host_idle`: nothing traced, no wake under way, no second
+    /// wake, no deadline) asks only the pins (410B §2 INT0/INT1).
     pub(crate) fn quiet_host(&self) -> bool {
+        debug_assert_eq!(
+            self.host_idle,
+            self.idle_host_now(),
+            "the kept idle host is stale"
+        );
+        (self.host_idle || self.host_waits_quietly())
+            && (
+                self.chip.pin_level(Pin::Int0),
+                self.chip.pin_level(Pin::Int1),
+            ) == self.ints
+    }
+
+    /// [`Node::quiet_host`] but for the pins, in full: no pin traced, a wake under way
+    /// suspended past the chip's time, no second wake pending, no deadline due.
+    #[inline(never)]
+    fn host_waits_quietly(&self) -> bool {
         self.vcd.is_none()
             && self
                 .host_run
@@ -360,10 +387,28 @@ impl Node {
                 .is_none_or(|r| r.resume_at > self.chip.now())
             && !self.rewake
             && self.host_deadline.is_none_or(|d| d > self.chip.now())
-            && (
-                self.chip.pin_level(Pin::Int0),
-                self.chip.pin_level(Pin::Int1),
-            ) == self.ints
+    }
+
+    /// What `host_idle` keeps, found afresh.
+    fn idle_host_now(&self) -> bool {
+        self.vcd.is_none()
+            && self.host_run.is_none()
+            && !self.rewake
+            && self.host_deadline.is_none()
+    }
+
+    /// Takes the second wake pending (`rewake`), `host_idle` kept.
+    fn take_rewake(&mut self) -> bool {
+        let rewake = std::mem::take(&mut self.rewake);
+        if rewake {
+            self.note_host();
+        }
+        rewake
+    }
+
+    /// Keeps `host_idle` after `vcd`, `host_run`, `rewake` or `host_deadline` changed.
+    pub(crate) fn note_host(&mut self) {
+        self.host_idle = self.idle_host_now();
     }
 
     /// After a wake for `why`: one more wake at most per pin change, in case a flag raised
@@ -372,6 +417,8 @@ impl Node {
     pub(crate) fn woke(&mut self, why: Wake) {
         self.rewake = matches!(why, Wake::Interrupt { .. }) && !self.rewaking;
         self.rewaking = false;
+        // Its deadline is set before (`run_host`, `Simulation::end_host_wake`).
+        self.note_host();
     }
 
     /// Whether INT0 or INT1 requests an interrupt now (410B §4.1 3H.0 INTFL0, 3H.3 INTFL1),

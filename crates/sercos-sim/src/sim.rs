@@ -376,6 +376,7 @@ impl Simulation {
             let chip = &node.chip;
             let traced = TracedChip::new(&node.cfg.name, pins, |p| chip.pin_level(p))?;
             node.vcd = Some(recorder.add_vcd_chip(traced));
+            node.note_host();
         }
         let segments: Vec<Segment> = seg_delays
             .iter()
@@ -2012,6 +2013,7 @@ impl Simulation {
                 n.in_floor = local;
                 n.last_out = None;
                 n.host_deadline = None;
+                n.note_host();
                 n.ints = (
                     n.chip.pin_level(sercon_model::pins::Pin::Int0),
                     n.chip.pin_level(sercon_model::pins::Pin::Int1),

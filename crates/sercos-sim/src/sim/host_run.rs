@@ -114,6 +114,7 @@ impl Simulation {
                     };
                     run.resume_at = target;
                     node.host_run = Some(run);
+                    node.note_host();
                     let until = node.clock.to_global(target);
                     self.resumes.push(std::cmp::Reverse((until, j)));
                     // A read leaves the chip as it was (`Access::changes_chip`); any other
