@@ -150,7 +150,7 @@ impl QuietPins {
     #[inline(always)]
     pub(crate) fn push_reactn_pulse_kept(&mut self, low: Instant, end: Instant) -> bool {
         #[cfg(debug_assertions)]
-        let general = self.pushed_pulse(low, end);
+        let general = self.pushed_pair(low, end, Change::Reactn);
         let applied = self.applied;
         if let Some((l, e)) = self.pulse
             && applied <= low
@@ -178,12 +178,13 @@ impl QuietPins {
         false
     }
 
-    /// Debug builds: a copy with the pulse's two changes pushed one by one.
+    /// Debug builds: a copy with a pulse's or an own interval's two changes (`pin` 0 from
+    /// `low`, 1 from `end`) pushed one by one, as the general path schedules them.
     #[cfg(debug_assertions)]
-    fn pushed_pulse(&self, low: Instant, end: Instant) -> QuietPins {
+    fn pushed_pair(&self, low: Instant, end: Instant, pin: fn(bool) -> Change) -> QuietPins {
         let mut general = self.clone();
-        general.push(low, Change::Reactn(false));
-        general.push(end, Change::Reactn(true));
+        general.push(low, pin(false));
+        general.push(end, pin(true));
         general
     }
 
@@ -193,7 +194,7 @@ impl QuietPins {
     #[inline(never)]
     pub(crate) fn push_reactn_pulse_rest(&mut self, low: Instant, end: Instant) {
         #[cfg(debug_assertions)]
-        let general = self.pushed_pulse(low, end);
+        let general = self.pushed_pair(low, end, Change::Reactn);
         self.push_reactn_pulse_unchecked(low, end);
         #[cfg(debug_assertions)]
         self.check_levels_against(&general, [low, end]);
@@ -307,7 +308,7 @@ impl QuietPins {
     #[inline(always)]
     pub(crate) fn push_own_kept(&mut self, start: Instant, end: Instant) -> bool {
         #[cfg(debug_assertions)]
-        let general = self.pushed_own(start, end);
+        let general = self.pushed_pair(start, end, Change::Idle);
         let applied = self.applied;
         if let Some((s, e)) = self.own
             && applied <= start
@@ -337,15 +338,6 @@ impl QuietPins {
             }
         }
         false
-    }
-
-    /// Debug builds: a copy with the own interval's two changes pushed one by one.
-    #[cfg(debug_assertions)]
-    fn pushed_own(&self, start: Instant, end: Instant) -> QuietPins {
-        let mut general = self.clone();
-        general.push(start, Change::Idle(false));
-        general.push(end, Change::Idle(true));
-        general
     }
 
     /// Puts the own interval (and the end it replaced) into `changes` as the changes it

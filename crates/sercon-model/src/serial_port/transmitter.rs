@@ -440,19 +440,9 @@ impl Transmitter {
     /// Takes two short paths of the general loop ([`Transmitter::release_with`]); debug
     /// builds run the general loop on a copy and compare the whole state.
     pub(crate) fn release(&mut self, now: Instant) {
-        #[cfg(debug_assertions)]
-        let general = {
-            let mut general = self.separate();
-            general.release_with::<false>(now);
-            format!("{general:?}")
-        };
-        self.release_with::<true>(now);
-        #[cfg(debug_assertions)]
-        debug_assert_eq!(
-            general,
-            format!("{:?}", self.separate()),
-            "the release's short paths differ from the general loop"
-        );
+        self.release_checked(now, "the release's short paths", |t| {
+            t.release_with::<true>(now)
+        });
     }
 
     /// [`Transmitter::release`] for a take that mostly finds the one own telegram queued
@@ -460,20 +450,32 @@ impl Transmitter {
     /// [`Transmitter::release_sole_own`] first, the loop after it when that does not finish
     /// the release. Debug builds run the general loop on a copy and compare the whole state.
     pub(crate) fn release_own_first(&mut self, now: Instant) {
+        self.release_checked(now, "the release of a sole own telegram", |t| {
+            if !t.release_sole_own(now) {
+                t.release_with::<true>(now);
+            }
+        });
+    }
+
+    /// Runs `release`, a release up to `now` by short paths (`what`); debug builds run the
+    /// general loop ([`Transmitter::release_with`] without them) on a copy and compare the
+    /// whole state.
+    #[inline(always)]
+    fn release_checked(&mut self, now: Instant, what: &str, release: impl FnOnce(&mut Self)) {
         #[cfg(debug_assertions)]
         let general = {
             let mut general = self.separate();
             general.release_with::<false>(now);
             format!("{general:?}")
         };
-        if !self.release_sole_own(now) {
-            self.release_with::<true>(now);
-        }
+        #[cfg(not(debug_assertions))]
+        let _ = (now, what);
+        release(self);
         #[cfg(debug_assertions)]
         debug_assert_eq!(
             general,
             format!("{:?}", self.separate()),
-            "the release of a sole own telegram differs from the general loop"
+            "{what}: not as the general loop leaves it"
         );
     }
 
