@@ -200,13 +200,7 @@ fn input_after_a_woken_node_set_its_wake_puts_it_back() {
     use sercon_model::serial_port::{LineSegment, LineSignal};
     use sercos_wire::time::Duration;
 
-    let Ok((cfg, hosts, _)) = six_slaves().build() else {
-        panic!("the ring fits");
-    };
-    let Ok(mut sim) = super::Simulation::new(cfg, hosts) else {
-        panic!("the simulation builds");
-    };
-    assert!(sim.run_until(us(700)).is_ok());
+    let mut sim = six_slaves_at_700_us();
     let Some(master) = sim.nodes.first() else {
         panic!("a master");
     };
@@ -453,14 +447,20 @@ fn a_swept_delivery_is_deliver_s_own() {
     }
 }
 
-/// [`six_slaves`] built and run to 700 µs (steady, with ATs on the way).
-fn six_slaves_at_700_us() -> super::Simulation {
+/// [`six_slaves`] built, not run.
+fn six_slaves_built() -> super::Simulation {
     let Ok((cfg, hosts, _)) = six_slaves().build() else {
         panic!("the ring fits");
     };
-    let Ok(mut sim) = super::Simulation::new(cfg, hosts) else {
+    let Ok(sim) = super::Simulation::new(cfg, hosts) else {
         panic!("the simulation builds");
     };
+    sim
+}
+
+/// [`six_slaves`] built and run to 700 µs (steady, with ATs on the way).
+fn six_slaves_at_700_us() -> super::Simulation {
+    let mut sim = six_slaves_built();
     assert!(sim.run_until(us(700)).is_ok());
     sim
 }
@@ -470,12 +470,7 @@ fn six_slaves_at_700_us() -> super::Simulation {
 // allocation is dropped (debug builds check that nothing allocated is let go).
 #[test]
 fn a_take_buffer_with_an_allocation_left_in_its_place_is_dropped() {
-    let Ok((cfg, hosts, _)) = six_slaves().build() else {
-        panic!("the ring fits");
-    };
-    let Ok(mut sim) = super::Simulation::new(cfg, hosts) else {
-        panic!("the simulation builds");
-    };
+    let mut sim = six_slaves_built();
     sim.buf = Vec::with_capacity(4);
     sim.put_buf(Vec::new());
     assert_eq!(sim.buf.capacity(), 0, "the new buffer is in place");
