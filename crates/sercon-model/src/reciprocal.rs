@@ -55,6 +55,66 @@ impl Reciprocal {
     }
 }
 
+/// Division by a divisor `d` > 2¹² fixed in advance for dividends below a bound: the
+/// quotient is the high half of one product shifted by a constant, with no correction step
+/// (`MclkClock`'s instants into ticks: the bound is 47 days for 32 MHz, 28 days for
+/// 20 MHz; later instants take [`Reciprocal`]).
+///
+/// With `S` = [`ShortDivision::SHIFT`], `m = ⌈2⁶⁴⁺ˢ / d⌉ = (2⁶⁴⁺ˢ + e) / d` for some
+/// 0 ≤ `e` < `d`, and `m` < 2⁶⁴ as `d` > 2ˢ. For `n = q · d + r` (`r` < `d`),
+/// `n · m / 2⁶⁴⁺ˢ = q + (r + n · e / 2⁶⁴⁺ˢ) / d`, whose floor is `q` when `n · e` < 2⁶⁴⁺ˢ
+/// (then `r` plus less than 1 stays below `d`): every `n` below `⌈2⁶⁴⁺ˢ / e⌉`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct ShortDivision {
+    m: u64,
+    /// Dividends below this are divided so (0: none).
+    below: u64,
+}
+
+impl ShortDivision {
+    /// The constant shift `S`.
+    const SHIFT: u32 = 12;
+
+    /// No dividend is divided so.
+    pub(crate) const NONE: ShortDivision = ShortDivision { m: 0, below: 0 };
+
+    /// The short division by `d` (for `d` ≤ 2¹², [`ShortDivision::NONE`]).
+    pub(crate) fn new(d: u64) -> Self {
+        if d <= 1 << Self::SHIFT {
+            return Self::NONE;
+        }
+        let x = 1u128 << (64 + Self::SHIFT);
+        let d = u128::from(d);
+        let m = x.div_ceil(d);
+        let e = m * d - x;
+        let below = if e == 0 { u128::MAX } else { x.div_ceil(e) };
+        match u64::try_from(m) {
+            Ok(m) => ShortDivision {
+                m,
+                below: u64::try_from(below).unwrap_or(u64::MAX),
+            },
+            Err(_) => Self::NONE,
+        }
+    }
+
+    /// The bound: dividends below it are divided so.
+    #[cfg(test)]
+    pub(crate) fn below(self) -> u64 {
+        self.below
+    }
+
+    /// `n / d` when `n` is below the bound.
+    #[inline]
+    pub(crate) fn div(self, n: u64) -> Option<u64> {
+        if n < self.below {
+            // The high half of a 128-bit product is below 2⁶⁴: the cast keeps it whole.
+            Some((((u128::from(n) * u128::from(self.m)) >> 64) as u64) >> Self::SHIFT)
+        } else {
+            None
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -83,6 +143,45 @@ mod tests {
         assert_eq!(Reciprocal::new(0).div(5), 5, "0 is taken as 1");
     }
 
+    /// The bound is where the short division stops being exact: the first dividend at or
+    /// above it whose remainder is `d − 1` has the quotient one too high there.
+    #[test]
+    fn the_short_division_holds_below_its_bound_only() {
+        for d in [
+            4_097,
+            25_000,
+            31_250,
+            50_000,
+            62_500,
+            1_000_000_007,
+            142_857_142_857,
+        ] {
+            let s = ShortDivision::new(d);
+            assert!(s.below > 0, "{d}");
+            for n in [
+                0,
+                1,
+                d - 1,
+                d,
+                d + 1,
+                s.below - 1,
+                s.below.saturating_sub(d),
+            ] {
+                assert_eq!(s.div(n), Some(n / d), "{n} / {d}");
+            }
+            assert_eq!(s.div(s.below), None);
+            if s.below < u64::MAX - d {
+                let n = s.below + (d - 1 - s.below % d);
+                let q = ((u128::from(n) * u128::from(s.m)) >> 64) as u64 >> ShortDivision::SHIFT;
+                assert_eq!(q, n / d + 1, "{d}: the product past the bound");
+                assert_eq!(s.div(n), None);
+            }
+        }
+        assert_eq!(ShortDivision::new(1 << 12), ShortDivision::NONE);
+        assert_eq!(ShortDivision::new(0), ShortDivision::NONE);
+        assert_eq!(ShortDivision::NONE.div(0), None);
+    }
+
     proptest! {
         #[test]
         fn equals_plain_division(n in any::<u64>(), d in 1..=u64::MAX, small in 1u64..100_000) {
@@ -91,7 +190,17 @@ mod tests {
                 prop_assert_eq!(r.div_rem(n), (n / d, n % d));
                 prop_assert_eq!(r.div(n), n / d);
                 prop_assert_eq!(r.div_ceil(n), n.div_ceil(d));
+                if let Some(q) = ShortDivision::new(d).div(n) {
+                    prop_assert_eq!(q, n / d);
+                }
             }
+        }
+
+        #[test]
+        fn the_short_division_equals_plain_division(d in 4_097..=u64::MAX, f in any::<u64>()) {
+            let s = ShortDivision::new(d);
+            let n = f % s.below.max(1);
+            prop_assert_eq!(s.div(n), (n < s.below).then(|| n / d));
         }
     }
 }
