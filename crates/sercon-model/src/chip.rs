@@ -5,7 +5,7 @@ use sercos_wire::time::Instant;
 
 use crate::config::ChipConfig;
 use crate::engine::{DRIVEN, Engine};
-use crate::mclk::MclkClock;
+use crate::mclk::{Due, MclkClock};
 use crate::pins::{Pin, PinEvent, PinSet};
 
 /// One SERCON410B or SERCON816, advanced in simulated time.
@@ -46,7 +46,7 @@ pub struct Chip {
     /// is): the first turn of [`Chip::advance_to`]'s loop, and every turn after a step of
     /// the timing control that started no cycle, reuse it instead of walking the
     /// processor's state again.
-    pub(crate) tp_next: Option<Option<u64>>,
+    pub(crate) tp_next: Option<Due>,
     /// Last traced levels of DMAREQR / DMAREQT in static mode, and the tick of the last
     /// traced pulse in pulsed mode (410B §2 pins 38, 39; §4.1 1H.14 DMAMODE).
     pub(crate) dma_trace: [(bool, Option<u64>); 2],
@@ -87,7 +87,7 @@ pub(crate) struct Chain {
     /// The last MCLK tick of the advance.
     pub(crate) limit: u64,
     /// The timing control's next tick, if due by `limit` (it goes first at equal ticks).
-    pub(crate) engine_tick: Option<u64>,
+    pub(crate) engine_tick: Due,
     /// The interrupt flags when the loop's turn began (`Flags::word`).
     pub(crate) flags: u64,
     /// The FIFO state when the loop's turn began (`DmaFifos::snapshot`).
@@ -99,7 +99,7 @@ impl Chain {
     #[cfg(debug_assertions)]
     pub(crate) const NONE: Chain = Chain {
         limit: 0,
-        engine_tick: None,
+        engine_tick: Due::NONE,
         flags: 0,
         fifo: None,
     };
@@ -210,30 +210,29 @@ impl Chip {
             // Something is processed: the bound is found afresh.
             self.out_bound.set(None);
             let limit = self.clock.tick_at_or_before(t);
+            // The next ticks as `Due`s (`u64::MAX` for none): minima and "due by `limit`"
+            // without branches.
             let mut tp_next = match self.tp_next.take() {
                 Some(memo) => memo,
-                None => crate::telegram_processor::next_tick(self),
+                None => crate::telegram_processor::next_due(self),
             };
             let mut quiet;
             let next_ticks = loop {
-                debug_assert_eq!(tp_next, crate::telegram_processor::next_tick(self));
+                debug_assert_eq!(tp_next.get(), crate::telegram_processor::next_tick(self));
                 // The timing control goes first at equal ticks: a cycle start sends the
                 // MST before the telegram processor's events of that tick. A quiet cycle end
                 // (`quiet`, `u64::MAX` for none) is no event: it is applied before the
                 // first step at or after it (spec-notes "Quiet cycle ends").
                 let engine_next;
                 (engine_next, quiet) = self.engine.next_ticks_memo();
-                let engine_tick = engine_next.filter(|k| *k <= limit);
-                let tp_tick = tp_next.filter(|k| *k <= limit);
+                let engine_tick = engine_next.by(limit);
+                let tp_tick = tp_next.by(limit);
                 // The serial port's changes (exact instants) go before MCLK ticks at or
                 // after them. They do not move the engine's or the processor's next tick,
                 // so all of them before those ticks are applied in one go.
                 // Their bound is found only when there is one (mostly none).
                 if self.serial_next_loud_event().is_some() {
-                    let bound = match (engine_tick, tp_tick) {
-                        (Some(e), Some(k)) => e.min(k),
-                        (e, k) => e.or(k).unwrap_or(u64::MAX),
-                    };
+                    let bound = engine_tick.min(tp_tick).raw();
                     // tick_at_or_after(a) <= bound  <=>  a <= instant(bound): no division
                     // per check.
                     // No tick due (the loop's last turn): up to `t`, without the product.
@@ -244,8 +243,10 @@ impl Chip {
                     };
                     self.serial_steps_up_to(bound_at, t);
                 }
-                match (engine_tick, tp_tick) {
-                    (Some(e), tp) if tp.is_none_or(|k| e <= k) => {
+                // The timing control's tick when due and not after the processor's (none,
+                // `u64::MAX`, is after every tick).
+                match (engine_tick.get(), tp_tick.get()) {
+                    (Some(e), _) if e <= tp_tick.raw() => {
                         let step = self.engine.step_tick(e);
                         let at = self.clock.instant(step.tick);
                         if step.changed != 0 {
@@ -260,7 +261,7 @@ impl Chip {
                             if changed != 0 {
                                 self.emit(changed, at);
                             }
-                            tp_next = crate::telegram_processor::next_tick(self);
+                            tp_next = crate::telegram_processor::next_due(self);
                         }
                         // Otherwise the step changed the timing control only: the
                         // processor's next tick stands.
@@ -299,7 +300,7 @@ impl Chip {
                             }
                             tp_next = match next {
                                 Some(next) => next,
-                                None => crate::telegram_processor::next_tick(self),
+                                None => crate::telegram_processor::next_due(self),
                             };
                             // The processor's next event, when it comes before anything
                             // else this loop would take and the steps so far changed no pin
@@ -308,7 +309,7 @@ impl Chip {
                             // The timing control's memo stands; a short cycle sync
                             // (`Engine::sync_cycle`, a slave's MST) put its new cycle's quiet
                             // end there.
-                            match tp_next.and_then(|e| {
+                            match tp_next.get().and_then(|e| {
                                 self.chains_to(e, limit, engine_tick, flags, fifo)
                                     .map(|q| (e, q))
                             }) {
@@ -348,9 +349,10 @@ impl Chip {
                         // end found as that turn finds them first, memoised for it
                         // otherwise; spec-notes "Quiet cycle ends").
                         let (engine_next, q) = self.engine.next_ticks_memo();
-                        if engine_next.is_none_or(|e| e > limit)
-                            && tp_next.is_none_or(|k| k > limit)
-                        {
+                        // (`limit` is below u64::MAX but at an MCLK of 1 THz advanced
+                        // to `Instant::MAX`: there, with neither tick, one turn more finds
+                        // nothing due and ends the same way.)
+                        if engine_next.after(limit) && tp_next.after(limit) {
                             quiet = q;
                             self.serial_steps_up_to(t, t);
                             break (engine_next, tp_next);
@@ -363,13 +365,10 @@ impl Chip {
             if quiet <= limit && quiet != u64::MAX {
                 self.engine.end_quietly(quiet);
             }
-            let tick = match next_ticks {
-                (Some(a), Some(b)) => Some(a.min(b)),
-                (a, b) => a.or(b),
-            };
+            let tick = next_ticks.0.min(next_ticks.1);
             // What is left up to `t` only sets levels of untraced pins (IDLE, REACTN).
             self.serial_apply_pin_levels(t);
-            let core = tick.map(|k| self.clock.instant(k));
+            let core = tick.get().map(|k| self.clock.instant(k));
             debug_assert_eq!(core, self.compute_next_core());
             self.next_core = Some(core);
             self.tp_next = Some(next_ticks.1);
@@ -410,7 +409,7 @@ impl Chip {
         &self,
         e: u64,
         limit: u64,
-        engine_tick: Option<u64>,
+        engine_tick: Due,
         flags: u64,
         fifo: Option<crate::telegram_processor::FifoState>,
     ) -> Option<u64> {
@@ -420,13 +419,13 @@ impl Chip {
         debug_assert!(
             self.engine
                 .next_memo
-                .is_none_or(|(next, _)| next.filter(|x| *x <= limit) == engine_tick),
+                .is_none_or(|(next, _)| next.by(limit) == engine_tick),
             "the timing control's next tick moved under a chain"
         );
         let (_, quiet) = self.engine.next_memo?;
         (self.chained_steps
             && e <= limit
-            && engine_tick.is_none_or(|x| x > e)
+            && engine_tick.after(e)
             && (self.engine.flags.word() ^ flags) & carried == 0
             && self.tp.fifo.unchanged_since(fifo)
             && !self.dma_pins_traced()
@@ -678,7 +677,7 @@ impl Chip {
         // it (under the layout proof, found above; not a held walk's).
         if self.out_bound.get().is_none() && !self.tp.walk_held.get() {
             let engine = match self.engine.next_memo {
-                Some((next, _)) => next,
+                Some((next, _)) => next.get(),
                 None => self.engine.next_tick(),
             };
             let bound = earliest_tick(tx, engine);

@@ -178,7 +178,11 @@ impl Engine {
             g.next_memo = self.next_memo;
             assert_eq!(&g, self, "quiet end against the end's own step");
             if let Some(memo) = self.next_memo {
-                assert_eq!(memo, (self.next_tick(), u64::MAX), "quiet end memo");
+                assert_eq!(
+                    memo,
+                    (crate::mclk::Due::from_option(self.next_tick()), u64::MAX),
+                    "quiet end memo"
+                );
             }
         }
     }
@@ -550,7 +554,7 @@ impl Engine {
             g.next_memo = self.next_memo;
             assert_eq!(&g, self, "a short cycle sync against the general one");
             if let Some(memo) = self.next_memo {
-                assert_eq!(memo, self.next_ticks(), "a short cycle sync's memo");
+                assert_eq!(memo, self.next_ticks_due(), "a short cycle sync's memo");
                 // CON_CLK, DIV_CLK and WDOGN as they were (INT0 / INT1 are settled later).
                 let mut levels = self.compute_levels();
                 levels[..2].copy_from_slice(&self.levels[..2]);

@@ -52,10 +52,11 @@ pub(crate) struct Engine {
     /// 410B §4.1 12H TCNTLT: TCNT latched by RDCNT.
     pub(crate) tcntlt: u16,
     pub(crate) levels: Levels,
-    /// [`Engine::next_tick`] and [`Engine::quiet_end`] (`u64::MAX` for none) as last
-    /// computed; `None` after a change that may move them (a step, a cycle synchronised by
-    /// an MST, anything from outside the chip).
-    pub(crate) next_memo: Option<(Option<u64>, u64)>,
+    /// [`Engine::next_tick`] (as a [`crate::mclk::Due`], the event loop's form) and
+    /// [`Engine::quiet_end`] (`u64::MAX` for none) as last computed; `None` after a change
+    /// that may move them (a step, a cycle synchronised by an MST, anything from outside the
+    /// chip).
+    pub(crate) next_memo: Option<(crate::mclk::Due, u64)>,
     /// A quiet cycle end is no event of its own ([`Engine::quiet_end`]); off, every end is
     /// a step (a switch for comparing both, `Chip::set_quiet_cycle_ends`).
     pub(crate) quiet_ends: bool,
@@ -151,15 +152,20 @@ impl Engine {
         (next, quiet.unwrap_or(u64::MAX))
     }
 
-    /// [`Engine::next_tick`] and [`Engine::quiet_end`] (`u64::MAX` for none), remembered
-    /// until the state changes (the event loop asks on every turn; most turns are the
-    /// telegram processor's, which leave both alone).
-    pub(crate) fn next_ticks_memo(&mut self) -> (Option<u64>, u64) {
+    /// [`Engine::next_ticks`] with the next tick as a [`crate::mclk::Due`].
+    pub(crate) fn next_ticks_due(&self) -> (crate::mclk::Due, u64) {
+        let (next, quiet) = self.next_ticks();
+        (crate::mclk::Due::from_option(next), quiet)
+    }
+
+    /// [`Engine::next_ticks_due`], remembered until the state changes (the event loop asks
+    /// on every turn; most turns are the telegram processor's, which leave both alone).
+    pub(crate) fn next_ticks_memo(&mut self) -> (crate::mclk::Due, u64) {
         if let Some(memo) = self.next_memo {
-            debug_assert_eq!(memo, self.next_ticks(), "stale engine next tick");
+            debug_assert_eq!(memo, self.next_ticks_due(), "stale engine next tick");
             return memo;
         }
-        let memo = self.next_ticks();
+        let memo = self.next_ticks_due();
         self.next_memo = Some(memo);
         memo
     }

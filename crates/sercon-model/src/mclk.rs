@@ -112,6 +112,72 @@ impl MclkClock {
     }
 }
 
+/// An MCLK tick that may be none, as one plain `u64` with `u64::MAX` for none: the earliest
+/// of several is one `min` and "due by `limit`" one comparison, where `Option<u64>` takes a
+/// tag and branches for each (the event loop's next ticks, `Chip::advance_to`).
+///
+/// Tick `u64::MAX` is never a real event there: the ticks are MCLK ticks of instants
+/// (`tick_at_or_after`, below `u64::MAX` at every MCLK below 1 THz) or sums that saturate,
+/// and a sum that saturated means "never" (its instant is `Instant::MAX`, the end of
+/// representable time, which no advance passes). A tick of `u64::MAX` could be due only by
+/// an advance to `Instant::MAX` at an MCLK of 1 THz. [`Due::from_option`] debug-asserts
+/// that none comes in (the general computations, `Option`s, are compared with it in debug
+/// builds).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) struct Due(u64);
+
+impl Due {
+    /// No tick.
+    pub(crate) const NONE: Due = Due(u64::MAX);
+
+    /// Tick `tick` (below `u64::MAX`, debug-asserted).
+    #[inline]
+    pub(crate) fn at(tick: u64) -> Due {
+        debug_assert_ne!(tick, u64::MAX, "u64::MAX is no tick (Due)");
+        Due(tick)
+    }
+
+    /// The tick of `tick`, [`Due::NONE`] for `None`.
+    #[inline]
+    pub(crate) fn from_option(tick: Option<u64>) -> Due {
+        debug_assert_ne!(tick, Some(u64::MAX), "u64::MAX is no tick (Due)");
+        Due(tick.unwrap_or(u64::MAX))
+    }
+
+    /// The tick `raw`, none for `u64::MAX` (a minimum over ticks that starts from
+    /// `u64::MAX`).
+    #[inline]
+    pub(crate) fn from_raw(raw: u64) -> Due {
+        Due(raw)
+    }
+
+    /// The tick, `None` for none.
+    #[inline]
+    pub(crate) fn get(self) -> Option<u64> {
+        (self.0 != u64::MAX).then_some(self.0)
+    }
+
+    /// The tick, `u64::MAX` for none.
+    #[inline]
+    pub(crate) fn raw(self) -> u64 {
+        self.0
+    }
+
+    /// The tick if it is at or before `limit`, none otherwise (none stays none: its
+    /// `u64::MAX` is above every `limit` but `u64::MAX`, where it is none itself).
+    #[inline]
+    pub(crate) fn by(self, limit: u64) -> Due {
+        if self.0 <= limit { self } else { Due::NONE }
+    }
+
+    /// Whether there is no tick at or before `tick`, for `tick` a tick (below `u64::MAX`):
+    /// none is after every one. (At `u64::MAX` none is not after it: one comparison.)
+    #[inline]
+    pub(crate) fn after(self, tick: u64) -> bool {
+        self.0 > tick
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -160,5 +226,41 @@ mod tests {
                 assert_eq!(c.tick_at_or_after(t), ps.div_ceil(p), "{hz} {ps}");
             }
         }
+    }
+
+    /// `Due` answers as the `Option<u64>` it stands for: minima, "due by `limit`" and
+    /// "after `tick`", with none above every tick.
+    #[test]
+    fn due_is_the_option_it_stands_for() {
+        let ticks = [None, Some(0), Some(1), Some(7), Some(u64::MAX - 1)];
+        for a in ticks {
+            let da = Due::from_option(a);
+            assert_eq!(da.get(), a);
+            assert_eq!(da.raw(), a.unwrap_or(u64::MAX));
+            for b in ticks {
+                let db = Due::from_option(b);
+                let min = match (a, b) {
+                    (Some(x), Some(y)) => Some(x.min(y)),
+                    (x, y) => x.or(y),
+                };
+                assert_eq!(da.min(db).get(), min, "{a:?} {b:?}");
+            }
+            for limit in [0, 1, 6, 7, 8, u64::MAX - 1, u64::MAX] {
+                assert_eq!(
+                    da.by(limit).get(),
+                    a.filter(|k| *k <= limit),
+                    "{a:?} {limit}"
+                );
+                if limit != u64::MAX {
+                    assert_eq!(
+                        da.after(limit),
+                        a.is_none_or(|k| k > limit),
+                        "{a:?} {limit}"
+                    );
+                }
+            }
+        }
+        assert_eq!(Due::at(3), Due::from_option(Some(3)));
+        assert_eq!(Due::from_raw(u64::MAX), Due::NONE);
     }
 }

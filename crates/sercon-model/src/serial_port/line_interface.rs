@@ -445,7 +445,7 @@ impl Chip {
 struct ToProcessor<'a> {
     clock: &'a crate::mclk::MclkClock,
     next_core: &'a mut Option<Option<Instant>>,
-    tp_next: &'a mut Option<Option<u64>>,
+    tp_next: &'a mut Option<crate::mclk::Due>,
     tp: &'a mut crate::telegram_processor::TelegramProcessor,
     out_bound: &'a std::cell::Cell<Option<Option<u64>>>,
     settings: &'a crate::settings::Settings,
@@ -485,7 +485,7 @@ impl FrameSink for ToProcessor<'_> {
             }
             if let Some(next) = self.tp_next.as_mut() {
                 // The processor's next tick is the earlier of its own and the first frame's.
-                *next = Some(next.map_or(tick, |k| k.min(tick)));
+                *next = (*next).min(crate::mclk::Due::at(tick));
             }
         }
         self.tp.on_rx_frame(tick, f);

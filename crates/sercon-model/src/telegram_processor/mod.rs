@@ -35,6 +35,7 @@ use sercos_wire::time::Instant;
 
 use crate::chip::{Chain, Chip};
 use crate::interrupts::INT_COMEND;
+use crate::mclk::Due;
 use fifo::DmaFifos;
 pub(crate) use fifo::FifoState;
 use status::{INT_PROGERR, INT_RWAIT, INT_TEND, ProgErr};
@@ -498,6 +499,23 @@ impl TelegramProcessor {
     /// [`TelegramProcessor::next_tick`] without the end of the frame in progress.
     #[inline]
     pub(crate) fn next_tick_but_rx(&self, int_out: u16) -> Option<u64> {
+        let (best, any) = self.next_tick_but_rx_parts(int_out);
+        any.then_some(best)
+    }
+
+    /// [`TelegramProcessor::next_tick_but_rx`] as a [`Due`] (the event loop's form: no
+    /// candidate is `u64::MAX`, see [`Due`]; debug-checked against the general form).
+    #[inline]
+    pub(crate) fn next_due_but_rx(&self, int_out: u16) -> Due {
+        let (best, any) = self.next_tick_but_rx_parts(int_out);
+        debug_assert!(!any || best != u64::MAX, "u64::MAX is no tick (Due)");
+        Due::from_raw(best)
+    }
+
+    /// The earliest of [`TelegramProcessor::next_tick_but_rx`]'s candidates (`u64::MAX`
+    /// with none) and whether there is one.
+    #[inline(always)]
+    fn next_tick_but_rx_parts(&self, int_out: u16) -> (u64, bool) {
         let events = int_out;
         // The earliest of the candidates (`any`: there is one; a tick of u64::MAX counts).
         let mut best = u64::MAX;
@@ -537,7 +555,7 @@ impl TelegramProcessor {
                 Some(Cur::End { .. }) | None => {}
             }
         }
-        any.then_some(best)
+        (best, any)
     }
 
     /// The next tick, given the start tick of the first queued frame (computed by the
@@ -683,6 +701,20 @@ pub(crate) fn next_tick(chip: &Chip) -> Option<u64> {
     next
 }
 
+/// [`next_tick`] as a [`Due`] (the event loop's form; debug-checked against it).
+#[inline]
+pub(crate) fn next_due(chip: &Chip) -> Due {
+    let tp = &chip.tp;
+    let others = tp.next_due_but_rx(chip.engine.s.int_out_lo);
+    let frame = match &tp.rx_now {
+        Some(r) => Due::at(r.end_tick),
+        None => Due::from_option(tp.rx_queue.front().map(|(tick, _)| *tick)),
+    };
+    let next = others.min(frame);
+    debug_assert_eq!(next.get(), next_tick(chip));
+    next
+}
+
 /// A communication cycle started at `tick` (timing control): a master sends the MST and
 /// processes the block after it; without MST the block's times count from the cycle start.
 // 410B §4.1 0CH.0-1: MSTEN/MSTMASTER; §4.2.1 TRT "after end of MST".
@@ -713,7 +745,7 @@ pub(crate) fn on_cycle_start(chip: &mut Chip, tick: u64) {
 /// find it.
 // Inlined into `Chip::advance_to`, its one call (release).
 #[inline(always)]
-pub(crate) fn step(chip: &mut Chip, tick: u64, chain: &Chain) -> (u64, Option<Option<u64>>) {
+pub(crate) fn step(chip: &mut Chip, tick: u64, chain: &Chain) -> (u64, Option<Due>) {
     // What happened before this tick and was no event of its own goes first, as at its
     // own tick (those at this tick come in the order below).
     if let Some(before) = tick.checked_sub(1) {
@@ -747,12 +779,9 @@ pub(crate) fn step(chip: &mut Chip, tick: u64, chain: &Chain) -> (u64, Option<Op
     receive::frame_end(chip, end, now);
     // After a joined frame the processor's next tick is the earlier of its other events
     // (`rx_end_is_next`: left as they were) and the next queued frame's start.
-    let next = others.map(|o| match (o, first_frame_tick(chip)) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
-    });
+    let next = others.map(|o| o.min(Due::from_option(first_frame_tick(chip))));
     debug_assert!(
-        next.is_none_or(|n| n == next_tick(chip)),
+        next.is_none_or(|n| n.get() == next_tick(chip)),
         "joined frame's next tick"
     );
     (end, next)
@@ -870,7 +899,7 @@ pub(crate) fn apply_quiet_events(chip: &mut Chip, tick: u64) -> bool {
 /// receive window that is none (its close counts either way), and the end itself changes
 /// no header, block or MST state.
 #[inline]
-pub(crate) fn rx_end_is_next(chip: &Chip, e: u64) -> Option<Option<u64>> {
+pub(crate) fn rx_end_is_next(chip: &Chip, e: u64) -> Option<Due> {
     let tp = &chip.tp;
     if tp.tx_end == Some(e)
         || matches!(
@@ -883,8 +912,9 @@ pub(crate) fn rx_end_is_next(chip: &Chip, e: u64) -> Option<Option<u64>> {
     {
         return None;
     }
-    let others = tp.next_tick_but_rx(chip.engine.s.int_out_lo);
-    others.is_none_or(|t| t >= e).then_some(others)
+    let others = tp.next_due_but_rx(chip.engine.s.int_out_lo);
+    // None (`u64::MAX`) is at or after every tick.
+    (others.raw() >= e).then_some(others)
 }
 
 /// Whether an event [`apply_quiet_events`] applies may be pending (a transmit telegram

@@ -114,7 +114,7 @@ pub(super) fn frame_start(
     chip: &mut Chip,
     tick: u64,
     chain: &Chain,
-) -> Option<(RxNow, Option<u64>)> {
+) -> Option<(RxNow, crate::mclk::Due)> {
     let (_, frame) = chip.tp.rx_queue.pop_front()?;
     chip.tp.last_taken = Some(frame.start);
     // No frame starts while one is in progress: its start waits for that one's end
