@@ -126,6 +126,13 @@ impl MclkClock {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) struct Due(u64);
 
+impl Default for Due {
+    /// No tick.
+    fn default() -> Self {
+        Due::NONE
+    }
+}
+
 impl Due {
     /// No tick.
     pub(crate) const NONE: Due = Due(u64::MAX);
@@ -163,6 +170,29 @@ impl Due {
         self.0
     }
 
+    /// Whether this is tick `tick` (a tick, below `u64::MAX`): one comparison, where
+    /// `Option<u64> == Some(tick)` tests the tag too.
+    #[inline]
+    pub(crate) fn is(self, tick: u64) -> bool {
+        debug_assert_ne!(tick, u64::MAX, "u64::MAX is no tick (Due)");
+        self.0 == tick
+    }
+
+    /// Whether there is a tick at or before `tick` (any `u64`): one comparison, before the
+    /// tick after `tick`, which at `u64::MAX` saturates so that none (`u64::MAX`) is not due
+    /// (and every tick, below it, is). Where `tick` is one less than a tick (the step's quiet
+    /// events before its own), the addition folds away.
+    #[inline]
+    pub(crate) fn due_by(self, tick: u64) -> bool {
+        self.0 < tick.saturating_add(1)
+    }
+
+    /// Whether there is a tick.
+    #[inline]
+    pub(crate) fn is_some(self) -> bool {
+        self.0 != u64::MAX
+    }
+
     /// The tick if it is at or before `limit`, none otherwise (none stays none: its
     /// `u64::MAX` is above every `limit` but `u64::MAX`, where it is none itself).
     #[inline]
@@ -181,6 +211,31 @@ impl Due {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A `Due` kept in state (the telegram processor's transmit end, the MST deadline) answers
+    /// as the `Option<u64>` it replaces: `is` as `== Some(tick)`, `due_by` as "`Some` and at or
+    /// before", none never, at every tick up to `u64::MAX`.
+    #[test]
+    fn a_due_answers_as_its_option() {
+        let ticks = [0u64, 1, 5, 6, 7, u64::MAX - 2, u64::MAX - 1];
+        let dues = ticks.map(|t| (Due::at(t), Some(t)));
+        for (due, option) in dues.into_iter().chain([(Due::NONE, None)]) {
+            assert_eq!(Due::from_option(option), due);
+            assert_eq!(due.get(), option);
+            assert_eq!(due.is_some(), option.is_some());
+            for tick in ticks.into_iter().chain([u64::MAX]) {
+                if tick != u64::MAX {
+                    assert_eq!(due.is(tick), option == Some(tick), "{due:?} {tick}");
+                }
+                assert_eq!(
+                    due.due_by(tick),
+                    option.is_some_and(|t| t <= tick),
+                    "{due:?} {tick}"
+                );
+            }
+        }
+        assert_eq!(Due::default(), Due::NONE);
+    }
 
     #[test]
     fn round_trips_exact_and_inexact_clocks() {

@@ -5,6 +5,7 @@
 //! NMSTERR, 4H.9 INT_MSTMIS) and synchronises its cycle to the MST's end, which is the
 //! time reference for TRT (410B §4.2.1).
 
+use crate::mclk::Due;
 use sercon_regs::Register;
 use sercon_regs::ram::NMSTERR;
 
@@ -107,7 +108,8 @@ pub(crate) fn mst_end(chip: &mut Chip, tick: u64, fcs_ok: bool, bytes: &[u8]) {
     // The next MST is due one cycle later, at the latest JTSCYC2 after that: one cycle of the
     // block this MST started (spec-notes "MST window of the last cycle").
     let tscyc = tscyc_us(chip);
-    chip.tp.mst.deadline = (tscyc > 0).then(|| window_close(tick, tscyc, j2, period));
+    chip.tp.mst.deadline =
+        Due::from_option((tscyc > 0).then(|| window_close(tick, tscyc, j2, period)));
 }
 
 /// The last MCLK tick at which an MST may end and still be in time after an MST that
@@ -156,5 +158,6 @@ pub(crate) fn deadline(chip: &mut Chip, tick: u64) {
     chip.tp.mst.missed_since = true;
     let period = chip.engine.pre.period().max(1);
     let tscyc = tscyc_us(chip).max(1);
-    chip.tp.mst.deadline = Some(tick.saturating_add(tscyc.saturating_mul(period)));
+    // A sum that saturated is no deadline (`Due`: never reached).
+    chip.tp.mst.deadline = Due::from_raw(tick.saturating_add(tscyc.saturating_mul(period)));
 }

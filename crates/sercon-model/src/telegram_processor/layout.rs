@@ -138,7 +138,7 @@ pub(crate) fn possible_blocks(chip: &Chip) -> u8 {
     if let Some(b) = &tp.block {
         blocks |= 1 << (b.block & 1);
     }
-    if let Some((_, b)) = tp.pending_block {
+    if let Some((_, b)) = tp.pending_block() {
         blocks |= 1 << (b & 1);
     }
     blocks

@@ -338,8 +338,10 @@ impl RxNow {
 pub(crate) struct MstState {
     /// Tick of the end of the last good MST (slave).
     pub(crate) last_end: Option<u64>,
-    /// Tick by which the next MST must have been received (slave).
-    pub(crate) deadline: Option<u64>,
+    /// Tick by which the next MST must have been received (slave); a `Due`, not an
+    /// `Option<u64>`, so that the step's and the next tick's tests are one comparison each
+    /// (a deadline whose sum saturated is none: never reached).
+    pub(crate) deadline: Due,
     /// The previous expected MST was missing.
     pub(crate) missed_prev: bool,
     /// A miss was counted since the last good MST (its late arrival is not checked again).
@@ -364,8 +366,12 @@ impl Default for QueueBound {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct TelegramProcessor {
     pub(crate) block: Option<Block>,
-    /// A block starting at the given tick (the end of the MST) with the given number.
-    pub(crate) pending_block: Option<(u64, u8)>,
+    /// The tick at which block [`TelegramProcessor::pending_block_no`] starts (the end of
+    /// the MST), none without a block pending; a `Due`, as `MstState::deadline`
+    /// ([`TelegramProcessor::pending_block`] gives both).
+    pub(crate) pending_block_at: Due,
+    /// The number of the block pending at `pending_block_at` (0 without one).
+    pub(crate) pending_block_no: u8,
     /// Frames delivered ahead of time, ordered by start, each with the MCLK tick of its
     /// start (computed once when queued: the event loop asks for it on every turn). The
     /// first in place: on a steady ring a frame mostly comes to an empty queue (a slave
@@ -391,8 +397,9 @@ pub(crate) struct TelegramProcessor {
     /// ([`take_back_frame`]): the queued one decides at its start, as a chip that had
     /// taken it would have; the replacement gives its end.
     pub(crate) replacing: Vec<HeardFrame>,
-    /// End of the telegram being sent (3H.9 FLTMT while `Some`).
-    pub(crate) tx_end: Option<u64>,
+    /// End of the telegram being sent (3H.9 FLTMT while there is one); a `Due`, as
+    /// `MstState::deadline`.
+    pub(crate) tx_end: Due,
     /// The transmitter is busy until this tick.
     pub(crate) tx_busy_until: u64,
     /// 410B §4.1 3H.10 FLRWAIT.
@@ -503,6 +510,13 @@ impl TelegramProcessor {
         any.then_some(best)
     }
 
+    /// The block pending (its start tick and number), if any.
+    pub(crate) fn pending_block(&self) -> Option<(u64, u8)> {
+        self.pending_block_at
+            .get()
+            .map(|t| (t, self.pending_block_no))
+    }
+
     /// [`TelegramProcessor::next_tick_but_rx`] as a [`Due`] (the event loop's form: no
     /// candidate is `u64::MAX`, see [`Due`]; debug-checked against the general form).
     #[inline]
@@ -520,21 +534,19 @@ impl TelegramProcessor {
         // The earliest of the candidates (`any`: there is one; a tick of u64::MAX counts).
         let mut best = u64::MAX;
         let mut any = false;
+        // `Due`s: a minimum without a tag's branch (none is `u64::MAX`, no candidate).
+        if events & INT_TEND != 0 {
+            best = best.min(self.tx_end.raw());
+            any |= self.tx_end.is_some();
+        }
+        best = best.min(self.mst.deadline.raw());
+        any |= self.mst.deadline.is_some();
+        best = best.min(self.pending_block_at.raw());
+        any |= self.pending_block_at.is_some();
         let mut consider = |t: u64| {
             any = true;
             best = best.min(t);
         };
-        if let Some(t) = self.tx_end
-            && events & INT_TEND != 0
-        {
-            consider(t);
-        }
-        if let Some((t, _)) = self.pending_block {
-            consider(t);
-        }
-        if let Some(t) = self.mst.deadline {
-            consider(t);
-        }
         if let Some(b) = &self.block {
             match b.cur {
                 Some(Cur::Tx { start, .. }) => consider(start),
@@ -734,7 +746,8 @@ pub(crate) fn on_cycle_start(chip: &mut Chip, tick: u64) {
     } else {
         tick
     };
-    chip.tp.pending_block = Some((ref_tick, block));
+    chip.tp.pending_block_at = Due::at(ref_tick);
+    chip.tp.pending_block_no = block;
 }
 
 /// Processes one event due at `tick` (the earliest the processor has); returns the tick of
@@ -751,7 +764,7 @@ pub(crate) fn step(chip: &mut Chip, tick: u64, chain: &Chain) -> (u64, Option<Du
     if let Some(before) = tick.checked_sub(1) {
         let _ = apply_quiet_events(chip, before);
     }
-    if chip.tp.tx_end == Some(tick) {
+    if chip.tp.tx_end.is(tick) {
         transmit::end(chip, tick);
         return (tick, None);
     }
@@ -791,14 +804,12 @@ pub(crate) fn step(chip: &mut Chip, tick: u64, chain: &Chain) -> (u64, Option<Du
 /// header's.
 #[inline]
 fn step_rest(chip: &mut Chip, tick: u64) {
-    if let Some((t, block)) = chip.tp.pending_block
-        && t == tick
-    {
-        chip.tp.pending_block = None;
-        start_pending_block(chip, tick, block);
+    if chip.tp.pending_block_at.is(tick) {
+        chip.tp.pending_block_at = Due::NONE;
+        start_pending_block(chip, tick, chip.tp.pending_block_no);
         return;
     }
-    if chip.tp.mst.deadline == Some(tick) {
+    if chip.tp.mst.deadline.is(tick) {
         crate::mst::deadline(chip, tick);
         return;
     }
@@ -868,10 +879,9 @@ fn held_in_window(chip: &mut Chip, close: u64) -> bool {
 /// Returns whether it applied any.
 pub(crate) fn apply_quiet_events(chip: &mut Chip, tick: u64) -> bool {
     let mut applied = false;
-    if let Some(end) = chip.tp.tx_end
-        && end <= tick
-    {
-        transmit::end(chip, end);
+    // One comparison (`Due::due_by`).
+    if chip.tp.tx_end.due_by(tick) {
+        transmit::end(chip, chip.tp.tx_end.raw());
         applied = true;
     }
     applied |= announce_opened(chip, tick);
@@ -901,7 +911,7 @@ pub(crate) fn apply_quiet_events(chip: &mut Chip, tick: u64) -> bool {
 #[inline]
 pub(crate) fn rx_end_is_next(chip: &Chip, e: u64) -> Option<Due> {
     let tp = &chip.tp;
-    if tp.tx_end == Some(e)
+    if tp.tx_end.is(e)
         || matches!(
             tp.block,
             Some(Block {
@@ -1225,7 +1235,7 @@ fn end_marker(chip: &mut Chip, tick: u64, at: u16) {
 /// When the block's last telegram ends, if one is still being sent or received after
 /// `tick` (410B §4.2.3 TEND: the block ends with its last telegram).
 fn busy_until(chip: &Chip, tick: u64) -> Option<u64> {
-    let busy_tx = chip.tp.tx_end.filter(|t| *t > tick);
+    let busy_tx = chip.tp.tx_end.get().filter(|t| *t > tick);
     let busy_rx = chip
         .tp
         .rx_now

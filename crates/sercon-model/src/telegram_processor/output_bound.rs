@@ -20,7 +20,7 @@ pub(crate) fn next_tx_bound(chip: &Chip) -> Option<u64> {
         }
     };
     // A block about to start (master: after its MST): its first transmit telegram.
-    if let Some((t, block)) = tp.pending_block {
+    if let Some((t, block)) = tp.pending_block() {
         consider(next_block_bound(chip, t, block));
     }
     if chip.engine.s.is_sercos_slave() {
@@ -224,6 +224,7 @@ fn writes_before(chip: &Chip, tick: u64) -> Option<Writes> {
     let nmsterr = tp
         .mst
         .deadline
+        .get()
         .filter(|d| *d < tick)
         .map(|_| u32::from(sercon_regs::ram::NMSTERR));
     Some(Writes { tend, nmsterr })

@@ -9,6 +9,7 @@ use super::walk::{self, Containers};
 use super::walk_memo;
 use super::{Cur, HeaderWord0, TxHead, advance, entmt, prog_error, reg25, set_flmdtadr};
 use crate::chip::Chip;
+use crate::mclk::Due;
 use crate::service_container::{self, ScMode};
 
 /// A transmit header became current (read into NTH): a DMA telegram asks for its data.
@@ -87,7 +88,7 @@ pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHead) {
         None => tick,
     };
     chip.tp.tx_busy_until = end;
-    chip.tp.tx_end = Some(end);
+    chip.tp.tx_end = Due::at(end);
     // 410B §4.1 21H THTPT / 22H THT: header of the transmitted telegram; 4H.10 INT_TSTART.
     chip.tp.thtpt = at;
     chip.tp.tht = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
@@ -370,7 +371,7 @@ pub(super) fn raise_sc(chip: &mut Chip, nsv: u8, raised: bool) {
 
 /// The telegram being sent ended at `tick`: FLTMT falls, INT_TEND (410B §4.1 3H.9, 4H.11).
 pub(super) fn end(chip: &mut Chip, tick: u64) {
-    chip.tp.tx_end = None;
+    chip.tp.tx_end = Due::NONE;
     chip.engine.flags.lo |= INT_TEND;
     if let Some(b) = chip.tp.block.as_mut() {
         b.last_end = b.last_end.max(tick);
