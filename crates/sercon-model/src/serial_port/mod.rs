@@ -124,6 +124,18 @@ pub(crate) struct Applied {
     pub(crate) rdist_rose: bool,
 }
 
+/// What [`SerialPort::line_input`] found.
+#[derive(Debug, Clone, Copy)]
+#[must_use]
+pub(crate) struct LineInput {
+    /// The segment took back frames reported before ([`SerialPort::take_retracted`]).
+    pub(crate) retracted: bool,
+    /// The receiver took it the filler-to-filler way (`Receiver::filler_to_filler`: a hinted
+    /// telegram reported whole, its implied filler after it): no decoder runs after it
+    /// ([`SerialPort::decoding`] is `false`; 410B §4.1 2H.13, the filler's edges).
+    pub(crate) short: bool,
+}
+
 impl SerialPort {
     /// The port at `at` with the registers 1H and 2H as given.
     pub(crate) fn new(
@@ -228,16 +240,16 @@ impl SerialPort {
     /// Receives one segment of the line input; each frame it completes goes to the log and
     /// then to `frames`, in order. Returns whether the segment took back frames reported
     /// before (it cut their bits, `Receiver::take_retracted`; [`SerialPort::take_retracted`]
-    /// names them): a frame of such a start reported now replaces one.
+    /// names them): a frame of such a start reported now replaces one; and whether the
+    /// receiver took it the filler-to-filler way ([`LineInput::short`]).
     ///
     /// `AT_LEVEL` (`Chip::line_input_at_level`): a telegram is first taken to the level the
     /// line is at (inverted when [`receiver::Receiver::off_line_level`]).
-    #[must_use]
     pub(crate) fn line_input<const AT_LEVEL: bool, F: FrameSink>(
         &mut self,
         mut seg: LineSegment,
         frames: &mut F,
-    ) -> bool {
+    ) -> LineInput {
         if AT_LEVEL && self.rx.off_line_level(&seg) {
             seg.invert();
         }
@@ -285,7 +297,10 @@ impl SerialPort {
         if !short || self.events.pins_loud() {
             self.refresh_loud();
         }
-        !short && self.rx.has_retracted()
+        LineInput {
+            retracted: !short && self.rx.has_retracted(),
+            short,
+        }
     }
 
     /// Whether the receiver decodes bits ([`receiver::Receiver::decoding`]).
