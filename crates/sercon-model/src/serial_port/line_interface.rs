@@ -486,7 +486,11 @@ impl FrameSink for ToProcessor<'_> {
             if let Some(core) = self.next_core.as_mut() {
                 let at = clock.instant(tick);
                 self.quiet &= at > self.now;
-                *core = Some(core.map_or(at, |c| c.min(at)));
+                // The earlier of the kept instant and the frame's (only the inner one written).
+                match core {
+                    Some(c) if *c <= at => {}
+                    _ => *core = Some(at),
+                }
             }
             if let Some(next) = self.tp_next.as_mut() {
                 // The processor's next tick is the earlier of its own and the first frame's.
