@@ -254,7 +254,9 @@ impl SerialPort {
             seg.invert();
         }
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
-        let mut fwd = None;
+        // The copy is queued before the receiver takes `seg`: the receiver reads nothing of
+        // the transmitter, nor the transmitter of the receiver (queued before the input as
+        // after it; no `Option` of a copy kept across the input).
         if self.cfg.tx_mode == TxMode::Repeat {
             if self.tx.carried_forwarding && self.cfg.polrxd == self.cfg.poltxd {
                 // A copy the user carries is only followed: its hint is never read (a
@@ -271,9 +273,11 @@ impl SerialPort {
                 };
                 self.tx.push_carried(&seg, REPEATER_LATENCY_BITS, follows);
             } else if self.tx.carried_forwarding {
-                fwd = Some(self.forwarded(seg.without_hint()));
+                let fwd = self.forwarded(seg.without_hint());
+                self.tx.push_forwarded(fwd);
             } else {
-                fwd = Some(self.forwarded(seg.clone()));
+                let fwd = self.forwarded(seg.clone());
+                self.tx.push_forwarded(fwd);
             }
         }
         let mut sink = Logged {
@@ -288,9 +292,6 @@ impl SerialPort {
                 frames: &mut sink,
             },
         );
-        if let Some(fwd) = fwd {
-            self.tx.push_forwarded(fwd);
-        }
         // The filler-to-filler path leaves FIBBR's deadline unset and schedules only
         // REACTN's pulse (410B §2 REACTN), which counts as a loud event only while the pins
         // are loud: the kept bound stands (debug builds compare it at every read).
