@@ -8,7 +8,7 @@ use super::status::{INT_NEWADR, INT_REND, INT_RERR, INT_RMISS, INT_RSTART, ProgE
 use super::transmit::raise_sc;
 use super::walk::{self, Containers};
 use super::walk_memo;
-use super::{Cur, HeaderWord0, RxNow, RxRole, advance, prog_error, reg25, set_flmdtadr};
+use super::{Block, Cur, HeaderWord0, RxNow, RxRole, advance, prog_error, reg25, set_flmdtadr};
 use crate::chip::{Chain, Chip};
 use crate::service_container::{self, ScMode};
 
@@ -188,17 +188,19 @@ fn take_replacement(chip: &mut Chip, start: sercos_wire::time::Instant, tick: u6
 /// Decides at `tick` whether the frame starting at tick `at` (earlier when its start was
 /// held behind the frame before it) is the expected receive telegram.
 fn accept(chip: &mut Chip, tick: u64, at_tick: u64, bytes: &[u8]) -> RxRole {
-    // Only the current header (the block carries a 256-byte bitmap: not copied).
-    let Some(cur) = chip.tp.block.as_ref().map(|b| b.cur) else {
-        return RxRole::Ignored;
-    };
-    let Some(Cur::Rx {
-        at,
-        hdr,
-        open,
-        close,
+    // Only the current header's fields, matched in place (the block carries a 256-byte
+    // bitmap; the header is not copied out whole either).
+    let Some(Block {
+        cur:
+            Some(Cur::Rx {
+                at,
+                hdr,
+                open,
+                close,
+                ..
+            }),
         ..
-    }) = cur
+    }) = chip.tp.block
     else {
         return RxRole::Ignored;
     };
