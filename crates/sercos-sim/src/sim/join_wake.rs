@@ -37,6 +37,15 @@
 
 use sercos_wire::time::Instant;
 
+/// The earlier of two instants, either missing.
+#[inline(always)]
+fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
 #[cfg(debug_assertions)]
 use super::Ev;
 use super::{Delivery, Lookahead, NO_NODE, Simulation};
@@ -79,7 +88,7 @@ impl Simulation {
         // remembered it in the chip, and the master's own telegram coming back round the
         // ring keeps it (`Chip::out_bound`; 410B §4.1 0CH: its block starts with its cycle
         // start, not with an MST it receives).
-        if self.nodes.first().is_none_or(|mst| mst.ran_past) || self.next_wake(0) != Some(Some(m)) {
+        if self.nodes.first().is_none_or(|mst| mst.ran_past) || !self.master_wakes_at(m) {
             return None;
         }
         #[cfg(debug_assertions)]
@@ -132,6 +141,46 @@ impl Simulation {
         self.stats.parked_wakes += n.saturating_sub(1) as u64;
         self.stats.joined_wakes += 1;
         Some(m)
+    }
+
+    /// Whether `set_wake` would set the master's wake to `m` (after now): `next_wake(0) ==
+    /// Some(Some(m))`, found in line for a powered master on the simulation's clock (the
+    /// join's conditions give the fast path and `Lookahead::Events`): the earliest of its
+    /// chip's next possible own output (`Chip::next_output_bound`, 410B §4.2.1 TRT), its
+    /// next output the simulation does not carry, its host's deadline and a resume after
+    /// its chip's time is `m`, and its pending wake is not. When that earliest lies at or
+    /// before now (`next_wake` then moves it to now or a picosecond later) or the master is
+    /// off that clock, `next_wake` itself. Debug builds compare with `next_wake`.
+    #[inline(always)]
+    fn master_wakes_at(&self, m: Instant) -> bool {
+        let Some(master) = self.nodes.first() else {
+            return false;
+        };
+        let wakes = if master.powered && master.clock.is_identity() {
+            let chip = &master.chip;
+            let chip_now = chip.now();
+            let next = earliest(
+                earliest(chip.next_output_bound(), chip.next_line_output_unexpected()),
+                earliest(
+                    master.host_deadline,
+                    master.resume.filter(|r| *r > chip_now),
+                ),
+            );
+            match next {
+                // On the simulation's clock, after now: `next_wake`'s wake as found.
+                Some(t) if t > self.now => t == m && master.wake != Some(m),
+                Some(_) => self.next_wake(0) == Some(Some(m)),
+                None => false,
+            }
+        } else {
+            self.next_wake(0) == Some(Some(m))
+        };
+        debug_assert_eq!(
+            wakes,
+            self.next_wake(0) == Some(Some(m)),
+            "the join's check of the master's wake"
+        );
+        wakes
     }
 
     /// Whether slave `j` parks after `m` (`Simulation::parks_at`) in a join, whose
