@@ -218,7 +218,10 @@ impl Chip {
             };
             let mut quiet;
             let next_ticks = loop {
-                debug_assert_eq!(tp_next.get(), crate::telegram_processor::next_tick(self));
+                debug_assert_eq!(
+                    tp_next,
+                    crate::mclk::Due::from_option(crate::telegram_processor::next_tick(self))
+                );
                 // The timing control goes first at equal ticks: a cycle start sends the
                 // MST before the telegram processor's events of that tick. A quiet cycle end
                 // (`quiet`, `u64::MAX` for none) is no event: it is applied before the
@@ -499,7 +502,10 @@ impl Chip {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         };
-        tick.map(|k| self.clock.instant(k))
+        // A tick of `u64::MAX` is none (`mclk::Due`: only a saturated sum at a 1 THz MCLK).
+        crate::mclk::Due::from_option(tick)
+            .get()
+            .map(|k| self.clock.instant(k))
     }
 
     /// The next instant at which the engine, the telegram processor or the serial port

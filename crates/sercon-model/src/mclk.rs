@@ -116,13 +116,16 @@ impl MclkClock {
 /// of several is one `min` and "due by `limit`" one comparison, where `Option<u64>` takes a
 /// tag and branches for each (the event loop's next ticks, `Chip::advance_to`).
 ///
-/// Tick `u64::MAX` is never a real event there: the ticks are MCLK ticks of instants
+/// Tick `u64::MAX` reads as none, in every build: the ticks are MCLK ticks of instants
 /// (`tick_at_or_after`, below `u64::MAX` at every MCLK below 1 THz) or sums that saturate,
-/// and a sum that saturated means "never" (its instant is `Instant::MAX`, the end of
-/// representable time, which no advance passes). A tick of `u64::MAX` could be due only by
-/// an advance to `Instant::MAX` at an MCLK of 1 THz. [`Due::from_option`] debug-asserts
-/// that none comes in (the general computations, `Option`s, are compared with it in debug
-/// builds).
+/// and a sum that saturated means "never" (its true tick lies past `Instant::MAX`, the end
+/// of representable time, which no advance passes). Only at the top MCLK the configuration
+/// accepts (1 THz, a tick per picosecond) can a computed tick be `u64::MAX`: an event at
+/// the very last picosecond, or (the case a bus write reaches: a watchdog started within
+/// its interval of the end) a saturated sum; both are taken as never, as the saturated sum
+/// truly is (`watchdog_816::a_watchdog_expiring_past_the_end_of_time_never_fires`). The
+/// general computations (`Option`s) are compared with it in debug builds through
+/// [`Due::from_option`], which maps `Some(u64::MAX)` to none the same way.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) struct Due(u64);
 
@@ -137,17 +140,15 @@ impl Due {
     /// No tick.
     pub(crate) const NONE: Due = Due(u64::MAX);
 
-    /// Tick `tick` (below `u64::MAX`, debug-asserted).
+    /// Tick `tick` (`u64::MAX`: none, see [`Due`]).
     #[inline]
     pub(crate) fn at(tick: u64) -> Due {
-        debug_assert_ne!(tick, u64::MAX, "u64::MAX is no tick (Due)");
         Due(tick)
     }
 
-    /// The tick of `tick`, [`Due::NONE`] for `None`.
+    /// The tick of `tick`, [`Due::NONE`] for `None` (and for `Some(u64::MAX)`, see [`Due`]).
     #[inline]
     pub(crate) fn from_option(tick: Option<u64>) -> Due {
-        debug_assert_ne!(tick, Some(u64::MAX), "u64::MAX is no tick (Due)");
         Due(tick.unwrap_or(u64::MAX))
     }
 
@@ -174,7 +175,7 @@ impl Due {
     /// `Option<u64> == Some(tick)` tests the tag too.
     #[inline]
     pub(crate) fn is(self, tick: u64) -> bool {
-        debug_assert_ne!(tick, u64::MAX, "u64::MAX is no tick (Due)");
+        debug_assert_ne!(tick, u64::MAX, "u64::MAX is no tick to ask for (Due)");
         self.0 == tick
     }
 

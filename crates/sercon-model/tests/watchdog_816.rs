@@ -210,3 +210,19 @@ fn wdogn_is_active_for_two_to_three_predivider_periods_when_enabled() {
         );
     }
 }
+
+/// A watchdog started within its interval of the end of representable time (`Instant::MAX`)
+/// at the top MCLK the configuration accepts (1 THz, a tick per picosecond) expires past that
+/// end: it never fires, and nothing panics on the way (816 §2.6.3; the saturated expiry
+/// tick reads as none, `mclk::Due`).
+#[test]
+fn a_watchdog_expiring_past_the_end_of_time_never_fires() {
+    let mut chip = chip_at(1_000_000_000_000, 63);
+    chip.advance_to(Instant::from_picos(u64::MAX - 1000));
+    chip.write(Register::Twdog, 65_535);
+    chip.write(Register::WdogCtrl, WDOG_START | EN0_INT_WDOG);
+    assert_eq!(chip.read(Register::WdogCtrl) & 1, 1, "WDOG_STAT");
+    chip.advance_to(Instant::MAX);
+    assert!(!int_wdog(&mut chip));
+    assert_eq!(chip.read(Register::WdogCtrl) & 1, 1, "still running");
+}

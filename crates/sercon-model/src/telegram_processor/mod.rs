@@ -521,8 +521,9 @@ impl TelegramProcessor {
     /// candidate is `u64::MAX`, see [`Due`]; debug-checked against the general form).
     #[inline]
     pub(crate) fn next_due_but_rx(&self, int_out: u16) -> Due {
-        let (best, any) = self.next_tick_but_rx_parts(int_out);
-        debug_assert!(!any || best != u64::MAX, "u64::MAX is no tick (Due)");
+        // With no candidate `best` stays `u64::MAX`: none; a candidate of `u64::MAX` is none
+        // too (see `Due`).
+        let (best, _) = self.next_tick_but_rx_parts(int_out);
         Due::from_raw(best)
     }
 
@@ -723,7 +724,7 @@ pub(crate) fn next_due(chip: &Chip) -> Due {
         None => Due::from_option(tp.rx_queue.front().map(|(tick, _)| *tick)),
     };
     let next = others.min(frame);
-    debug_assert_eq!(next.get(), next_tick(chip));
+    debug_assert_eq!(next, Due::from_option(next_tick(chip)));
     next
 }
 
