@@ -12,6 +12,7 @@ use super::port_config::PortConfig;
 use super::segment::Shared;
 use super::segment::{FrameHint, LineSegment, LineSignal};
 use super::{FIBBR_BIT_TIMES, HeardFrame};
+use crate::reciprocal::Reciprocal;
 use crate::serial_settings::RxdCoding;
 
 /// Line bits of a flag (the opening flag is complete 8 bits after its first bit).
@@ -90,8 +91,11 @@ pub(crate) struct Receiver {
 struct Ready {
     /// Where the filler starts (the end of the bits).
     at: Instant,
-    /// The bit time of the telegram, and of its filler.
-    bit_time: Duration,
+    /// The bit time of the telegram, and of its filler, in picoseconds (≥ 1), as its
+    /// reciprocal: the filler's level at the next telegram's start is a division by it, one
+    /// per telegram received, and a 64-bit `div` takes a dozen clocks (docs/performance.md,
+    /// session 32).
+    bit_time: Reciprocal,
     /// The level the telegram's last bit leaves the line at
     /// ([`LineSegment::level_after_bits`]).
     level: bool,
@@ -104,9 +108,16 @@ impl Ready {
     #[inline(always)]
     fn level_at(&self, t: Instant) -> bool {
         let elapsed = t.saturating_duration_since(self.at).as_picos();
-        let begun = elapsed.div_ceil(self.bit_time.as_picos().max(1));
+        let begun = self.bit_time.div_ceil(elapsed);
         self.level ^ (begun & 1 == 1)
     }
+}
+
+/// The reciprocal of bit time `bt` (a division: out of the filler-to-filler path's line,
+/// which takes the one kept).
+#[cold]
+fn reciprocal_of(bt: Duration) -> Reciprocal {
+    Reciprocal::new(bt.as_picos())
 }
 
 /// The receiver as it was before it took an explicit filler segment starting at `at`
@@ -244,9 +255,10 @@ impl Receiver {
             debug_assert!(false, "an unwritten implied filler without its filler");
             return;
         };
-        self.timeout = r.bit_time.saturating_mul(FIBBR_BIT_TIMES);
+        let bit_time = Duration::from_picos(r.bit_time.divisor());
+        self.timeout = bit_time.saturating_mul(FIBBR_BIT_TIMES);
         let fibbr_deadline = Some(
-            r.at.saturating_sub_bits(r.bit_time)
+            r.at.saturating_sub_bits(bit_time)
                 .saturating_add(self.timeout),
         );
         if let Some(u) = self.implied.as_mut() {
@@ -298,7 +310,7 @@ impl Receiver {
             && last.bit_time.as_picos() > 0)
             .then(|| Ready {
                 at,
-                bit_time: last.bit_time,
+                bit_time: Reciprocal::new(last.bit_time.as_picos()),
                 level: last.level_at(at),
             })
     }
@@ -434,7 +446,7 @@ impl Receiver {
         // The receiver's part (`compute_ready`): the previous telegram's implied filler runs,
         // from before `seg`, at `seg`'s bit rate (not 0).
         self.ready
-            .is_some_and(|r| r.at < seg.start && r.bit_time == bt)
+            .is_some_and(|r| r.at < seg.start && r.bit_time.divisor() == bt.as_picos())
             && seg.then_filler
             && !seg.distorted
             && seg.hint.is_some()
@@ -482,9 +494,15 @@ impl Receiver {
         // when read (`write_implied`).
         debug_assert!(self.implied.as_ref().is_some_and(|u| u.running.is_none()));
         self.implied_unwritten = true;
+        // `is_filler_to_filler`: the last telegram's filler ran at this bit time, so its
+        // reciprocal is the one kept (no division here).
+        let bit_time = match self.ready {
+            Some(r) => r.bit_time,
+            None => reciprocal_of(bt),
+        };
         self.ready = Some(Ready {
             at: end,
-            bit_time: bt,
+            bit_time,
             level,
         });
     }
