@@ -469,8 +469,20 @@ impl FrameSink for ToProcessor<'_> {
         if self.tp.early.is_some_and(|e| e.start == f.start) {
             // The report of a frame taken early gives it its end.
             let tick = clock.tick_at_or_after(f.start);
-            self.early_report |=
-                crate::telegram_processor::early_start::take_report(self.tp, clock, tick, f);
+            let HeardFrame {
+                start,
+                end,
+                bytes,
+                fcs_ok,
+            } = f;
+            self.early_report |= crate::telegram_processor::early_start::take_report(
+                self.tp,
+                clock,
+                tick,
+                (start, end),
+                bytes,
+                fcs_ok,
+            );
             return;
         }
         if crate::telegram_processor::frame_is_mst(&f.bytes) && self.settings.is_sercos_slave() {

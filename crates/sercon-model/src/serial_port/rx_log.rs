@@ -46,17 +46,21 @@ impl RxLog {
     #[inline(always)]
     pub(crate) fn push(&mut self, frame: &HeardFrame) {
         if self.on {
-            self.push_on(frame);
+            // The copy is made here, not in the call: a reference handed to a call out of
+            // line would keep the caller's frame in memory, built field by field and then
+            // copied whole into the processor's queue, a copy that waits on the stores
+            // just made (store forwarding; docs/performance.md, session 32).
+            self.push_on(frame.clone());
         }
     }
 
     /// [`RxLog::push`] while the log is on.
     #[inline(never)]
-    fn push_on(&mut self, frame: &HeardFrame) {
+    fn push_on(&mut self, frame: HeardFrame) {
         if self.records.len() >= RX_LOG_FRAMES + RX_LOG_FRAMES / 8 {
             self.keep_newest(RX_LOG_FRAMES);
         }
-        self.records.push_back(frame.clone());
+        self.records.push_back(frame);
     }
 
     /// Forgets the frame starting at `start` that the receiver took back

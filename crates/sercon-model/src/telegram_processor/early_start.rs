@@ -44,12 +44,23 @@ const MST_ADR: u8 = 255;
 /// whether the processor's next tick may have moved (its memos are then stale).
 #[cold]
 #[inline(never)]
+// The frame comes in its parts: a frame handed by value to a call out of line is kept in
+// memory by its caller on every path, the usual one too, where its move into the queue then
+// waits on the stores that built it (store forwarding; docs/performance.md, session 32).
 pub(crate) fn take_report(
     tp: &mut TelegramProcessor,
     clock: &MclkClock,
     tick: u64,
-    f: HeardFrame,
+    (start, end): (Instant, Instant),
+    bytes: Shared<[u8]>,
+    fcs_ok: bool,
 ) -> bool {
+    let f = HeardFrame {
+        start,
+        end,
+        bytes,
+        fcs_ok,
+    };
     let early_end = tp.early.take().and_then(|e| e.end);
     if let Some(slot) = queued_early(tp, f.start, early_end).and_then(|i| tp.rx_queue.get_mut(i)) {
         *slot = (tick, f);
