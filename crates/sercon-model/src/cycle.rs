@@ -66,7 +66,7 @@ impl Engine {
         if tick < first {
             run.ref_e
         } else {
-            run.ref_e + 1 + (tick - first) / self.pre.period()
+            run.ref_e + 1 + self.pre.periods_in(tick - first)
         }
     }
 

@@ -77,7 +77,7 @@ pub(crate) fn mst_end(chip: &mut Chip, tick: u64, fcs_ok: bool, bytes: &[u8]) {
     if msttchk && let Some(last) = chip.tp.mst.last_end {
         // 25H.10 MSTTCHK with JTSCYC1/2 (spec-notes "MST window"): the MST must end
         // TSCYC − JTSCYC1 ..= TSCYC + JTSCYC2 µs after the previous one.
-        let dt = tick.saturating_sub(last) / period;
+        let dt = chip.engine.pre.periods_in(tick.saturating_sub(last));
         if dt < tscyc.saturating_sub(j1) {
             chip.engine.flags.lo |= INT_MSTEARLY;
         } else if dt > tscyc.saturating_add(j2) || chip.tp.mst.missed_since {

@@ -8,6 +8,8 @@
 //! and when timing control is triggered (CYCSTART, CYC_CLK), so MCLKST = 0 puts the
 //! trigger exactly on the µs grid and MCLKST = s shortens the first µs by `s` periods.
 
+use crate::reciprocal::Reciprocal;
+
 /// The predivider: where its µs ticks fall, in MCLK ticks.
 ///
 /// Invariant: the µs ticks at or after `anchor` are exactly `anchor + k · period`.
@@ -15,8 +17,10 @@
 pub(crate) struct Predivider {
     /// A µs tick; ticks before it (the first, irregular µs) are not on the grid.
     anchor: u64,
-    /// MCLKDIV + 1, in MCLK ticks.
-    period: u64,
+    /// MCLKDIV + 1, in MCLK ticks ([`Reciprocal::divisor`]), as its reciprocal: ticks are
+    /// divided into µs several times a cycle, and a 64-bit `div` takes a dozen clocks
+    /// (docs/performance.md, session 32).
+    period: Reciprocal,
     /// Width of the MCLKDIV / MCLKST fields (5 on the 410B, 6 on the 816).
     bits: u8,
 }
@@ -27,46 +31,61 @@ impl Predivider {
         let period = u64::from(mclkdiv) + 1;
         Predivider {
             anchor: first_wrap(at, u64::from(start), period, bits),
-            period,
+            period: Reciprocal::new(period),
             bits,
         }
     }
 
     /// MCLK ticks per µs (MCLKDIV + 1).
     pub(crate) fn period(&self) -> u64 {
-        self.period
+        self.period.divisor()
+    }
+
+    /// `n / period`.
+    #[inline]
+    pub(crate) fn periods_in(&self, n: u64) -> u64 {
+        self.period.div(n)
+    }
+
+    /// `n.div_ceil(period)`.
+    #[inline]
+    pub(crate) fn periods_begun_in(&self, n: u64) -> u64 {
+        self.period.div_ceil(n)
     }
 
     /// The first µs tick strictly after MCLK tick `k`.
+    #[inline(always)]
     pub(crate) fn tick_after(&self, k: u64) -> u64 {
         if k < self.anchor {
             self.anchor
         } else {
-            let n = (k - self.anchor) / self.period + 1;
-            self.anchor.saturating_add(n.saturating_mul(self.period))
+            let n = self.period.div(k - self.anchor) + 1;
+            self.anchor
+                .saturating_add(n.saturating_mul(self.period.divisor()))
         }
     }
 
     /// Reloads the predivider with MCLKST at tick `at` (timing-control trigger).
     // 410B §4.1 0EH: "MCLKST: Initial value for predivider".
     pub(crate) fn reload(&mut self, at: u64, start: u16) {
-        self.anchor = first_wrap(at, u64::from(start), self.period, self.bits);
+        self.anchor = first_wrap(at, u64::from(start), self.period.divisor(), self.bits);
     }
 
     /// A new MCLKDIV written at tick `at`: the counter keeps its count and now wraps after
     /// `mclkdiv` (spec-notes "MCLKDIV written while counting").
     pub(crate) fn set_divider(&mut self, at: u64, mclkdiv: u16) {
         let new_period = u64::from(mclkdiv) + 1;
-        if new_period == self.period {
+        let period = self.period.divisor();
+        if new_period == period {
             return;
         }
         let count = if at >= self.anchor {
-            (at - self.anchor) % self.period
+            self.period.div_rem(at - self.anchor).1
         } else {
             // Still in the first, irregular µs: the count is what is left to run.
-            self.period.saturating_sub(self.anchor - at)
+            period.saturating_sub(self.anchor - at)
         };
-        self.period = new_period;
+        self.period = Reciprocal::new(new_period);
         self.anchor = first_wrap(at, count, new_period, self.bits);
     }
 }

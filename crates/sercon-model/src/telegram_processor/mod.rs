@@ -1221,8 +1221,10 @@ fn end_marker(chip: &mut Chip, tick: u64, at: u16) {
     let Some(b) = chip.tp.block.take() else {
         return;
     };
-    let period = chip.engine.pre.period().max(1);
-    let tend = b.last_end.saturating_sub(b.ref_tick).div_ceil(period);
+    let tend = chip
+        .engine
+        .pre
+        .periods_begun_in(b.last_end.saturating_sub(b.ref_tick));
     walk::set_word(
         &mut chip.ram,
         u32::from(at) + 1,
