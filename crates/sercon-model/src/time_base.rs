@@ -131,4 +131,42 @@ mod tests {
         assert_eq!(p.tick_after(25), 30);
         assert_eq!(p.tick_after(30), 40);
     }
+
+    proptest::proptest! {
+        /// The reciprocal's quotients are the division's (410B §4.1 0EH: one µs is
+        /// MCLKDIV + 1 MCLK periods): the µs tick after any tick, the µs counted and begun
+        /// in any span, and the count a new divider keeps, for every MCLKDIV of the 816's
+        /// 6-bit field.
+        #[test]
+        fn the_reciprocal_divides_as_the_division(
+            mclkdiv in 0u16..64,
+            start in 0u16..64,
+            at in 0u64..1 << 50,
+            k in proptest::prelude::any::<u64>(),
+            new_div in 0u16..64,
+        ) {
+            let p = Predivider::loaded(at, mclkdiv, start, 6);
+            let period = u64::from(mclkdiv) + 1;
+            let expected = if k < p.anchor {
+                p.anchor
+            } else {
+                p.anchor.saturating_add(((k - p.anchor) / period + 1).saturating_mul(period))
+            };
+            proptest::prop_assert_eq!(p.tick_after(k), expected);
+            proptest::prop_assert_eq!(p.periods_in(k), k / period);
+            proptest::prop_assert_eq!(p.periods_begun_in(k), k.div_ceil(period));
+            let mut q = p;
+            let when = at.saturating_add(k % (1 << 20));
+            q.set_divider(when, new_div);
+            let new_period = u64::from(new_div) + 1;
+            let expected_anchor = if when >= p.anchor {
+                first_wrap(when, (when - p.anchor) % period, new_period, 6)
+            } else {
+                first_wrap(when, period.saturating_sub(p.anchor - when), new_period, 6)
+            };
+            if new_div != mclkdiv {
+                proptest::prop_assert_eq!(q.anchor, expected_anchor);
+            }
+        }
+    }
 }
