@@ -9,8 +9,8 @@
 
 use sercos_wire::time::{Duration, Instant};
 
-use super::coded_frames::{CodedFrames, Known};
-use super::segment::{LineSegment, LineSignal};
+use super::coded_frames::{Coded, CodedFrames, Known};
+use super::segment::{FrameHint, LineSegment, LineSignal, Shared};
 use crate::chip::earliest;
 use crate::first_queue::FirstQueue;
 
@@ -114,22 +114,20 @@ pub(crate) struct Transmitter {
 }
 
 impl Own {
-    /// The segment of this telegram on a line at light level `level` before its first bit.
+    /// This telegram coded on a line at light level `level` before its first bit (its bits
+    /// and hint, `CodedFrames::coded`) and the end of its last bit; `None` when it cannot be
+    /// encoded.
     // Inlined at every call: with the release's second own-telegram turn
     // (`Transmitter::release_merged_then_own`) LLVM kept it out of line, which cost more
     // than that turn saves.
     #[inline(always)]
-    fn segment(self, level: bool, coded: &mut CodedFrames) -> Option<LineSegment> {
+    fn coded(self, level: bool, coded: &mut CodedFrames) -> Option<(Coded, Instant)> {
         let c = coded.coded(self.telegram, self.presync, self.len, level)?;
-        Some(LineSegment {
-            start: self.start,
-            bit_time: self.bit_time,
-            signal: LineSignal::Bits(c.bits),
-            level_before: level,
-            hint: Some(c.hint),
-            distorted: false,
-            then_filler: false,
-        })
+        // What `LineSegment::end` gives for the segment of these bits.
+        let end = self
+            .start
+            .saturating_add(self.bit_time.saturating_mul(c.bits.len()));
+        Some((c, end))
     }
 }
 
@@ -494,6 +492,14 @@ impl Transmitter {
                 return;
             }
         }
+        self.release_loop::<SHORT>(now);
+    }
+
+    /// [`Transmitter::release_with`]'s general loop, out of the line of its short path (a
+    /// ring slave's take is that path alone, and the loop's frame and saved registers are
+    /// not needed there).
+    #[inline(never)]
+    fn release_loop<const SHORT: bool>(&mut self, now: Instant) {
         loop {
             // The queues' fronts once per turn.
             let (own_at, bg_at) = self.fronts();
@@ -629,7 +635,8 @@ impl Transmitter {
     fn release_own<const SHORT: bool>(&mut self, own: Own, t: Instant, now: Instant) {
         // The NRZI coder continues from the level the line is at.
         let level = self.level_at(t);
-        let Some(mut seg) = own.segment(level, &mut self.coded) else {
+        let (start, bit_time) = (own.start, own.bit_time);
+        let Some((c, end)) = own.coded(level, &mut self.coded) else {
             return;
         };
         if self.last_is_bg {
@@ -638,8 +645,8 @@ impl Transmitter {
             self.bg_active = self.last_out.take();
             self.last_inv = false;
         }
-        self.own_until = seg.end().unwrap_or(t);
-        self.resume_at = Some(self.own_until);
+        self.own_until = end;
+        self.resume_at = Some(end);
         // The background resumed after it is plain filler of the same bit time
         // (410B §1: a master's idle filler, or the filler a slave repeats, "or send
         // their own telegrams"): it travels with the telegram (spec-notes "Implied
@@ -648,11 +655,9 @@ impl Transmitter {
             && self
                 .bg_active
                 .as_ref()
-                .is_some_and(|bg| resumes_filler(bg, self.own_until, seg.bit_time));
-        seg.then_filler = self.silent_resume;
-        let open = seg.then_filler;
-        self.emit(seg);
-        self.implied_open = open;
+                .is_some_and(|bg| resumes_filler(bg, end, bit_time));
+        let open = self.silent_resume;
+        self.emit_own(start, bit_time, c, level);
         if SHORT && open && self.own_until <= now && self.resume_stays_silent() {
             // The silent resume (spec-notes "Implied filler") is due: what its turn
             // does, without the turn.
@@ -732,7 +737,8 @@ impl Transmitter {
         };
         // The first copy, the queue's only entry (one pop, not a truncate's loop).
         drop(self.background.pop_front());
-        let Some(mut seg) = own.segment(level, &mut self.coded) else {
+        let (start, bit_time) = (own.start, own.bit_time);
+        let Some((c, own_until)) = own.coded(level, &mut self.coded) else {
             // Not encodable: the follow alone, as its turn leaves it.
             self.resume_at = None;
             self.silent_resume = false;
@@ -743,7 +749,6 @@ impl Transmitter {
         };
         // The followed copy is the background in effect, shadowed now: kept for the resume
         // as queued (`bg_active`), the line's last segment the own telegram (`emit`).
-        let own_until = seg.end().unwrap_or(o);
         self.own_until = own_until;
         self.resume_at = Some(own_until);
         // 410B §1: the filler the slave repeats resumes after its own telegram (spec-notes
@@ -752,19 +757,15 @@ impl Transmitter {
             && self
                 .tail
                 .as_ref()
-                .is_some_and(|(tail, _)| resumes_filler(tail, own_until, seg.bit_time));
+                .is_some_and(|(tail, _)| resumes_filler(tail, own_until, bit_time));
         // The merged copy moved into place (it is there: checked above).
-        let before = match self.tail.take() {
-            Some((tail, _)) => self.bg_active.replace(tail),
-            None => self.bg_active.take(),
-        };
-        if let Some(before) = before {
-            drop_in_line(before);
+        if let Some((tail, _)) = self.tail.take()
+            && let Some((signal, hint)) = write_over(&mut self.bg_active, tail)
+        {
+            drop_parts_in_line(signal, hint);
         }
-        seg.then_filler = self.silent_resume;
-        let open = seg.then_filler;
-        self.emit(seg);
-        self.implied_open = open;
+        let open = self.silent_resume;
+        self.emit_own(start, bit_time, c, level);
         if open && own_until <= now && self.resume_stays_silent() {
             self.resume_at = None;
             self.silent_resume = false;
@@ -910,6 +911,75 @@ impl Transmitter {
         self.implied_open = false;
     }
 
+    /// [`Transmitter::emit`] of an own telegram's segment, from its parts: its first bit at
+    /// `start`, coded (`c`) from the line's level `level_before` (410B §2 TxD: the NRZI
+    /// coder continues from the level the line is at), with the filler resumed after it
+    /// when the resume is silent (`then_filler`, spec-notes "Implied filler"), which
+    /// leaves the implied filler open. The segment is written where it is kept, from
+    /// registers: built on the stack and copied, its 16-byte loads waited on the narrower
+    /// stores that built it (docs/performance.md, "Store-forwarding stalls"). Debug builds
+    /// compare the result with `emit` of the segment built whole.
+    #[inline(never)]
+    fn emit_own(&mut self, start: Instant, bit_time: Duration, c: Coded, level_before: bool) {
+        let then_filler = self.silent_resume;
+        #[cfg(debug_assertions)]
+        let general = {
+            let mut general = self.clone();
+            general.emit(LineSegment {
+                start,
+                bit_time,
+                signal: LineSignal::Bits(c.bits.clone()),
+                level_before,
+                hint: Some(c.hint.clone()),
+                distorted: false,
+                then_filler,
+            });
+            general.implied_open = then_filler;
+            format!("{general:?}")
+        };
+        // The line's last segment, without its hint.
+        let before = write_over(
+            &mut self.last_out,
+            LineSegment {
+                start,
+                bit_time,
+                signal: LineSignal::Bits(c.bits.clone()),
+                level_before,
+                hint: None,
+                distorted: false,
+                then_filler,
+            },
+        );
+        let seg = || LineSegment {
+            start,
+            bit_time,
+            signal: LineSignal::Bits(c.bits),
+            level_before,
+            hint: Some(c.hint),
+            distorted: false,
+            then_filler,
+        };
+        if self.released.len() < self.released.capacity() {
+            // Room for it: built in its slot (the push cannot grow, so nothing holds it on
+            // the stack while a growth could unwind).
+            self.released.push(seg());
+        } else {
+            push_growing(&mut self.released, seg());
+        }
+        if let Some((signal, hint)) = before {
+            drop_parts_in_line(signal, hint);
+        }
+        self.last_inv = false;
+        self.last_is_bg = false;
+        self.implied_open = then_filler;
+        #[cfg(debug_assertions)]
+        debug_assert_eq!(
+            general,
+            format!("{self:?}"),
+            "an own segment emitted from its parts differs from emit's"
+        );
+    }
+
     /// Whether no released segment waits to be taken.
     pub(crate) fn nothing_released(&self) -> bool {
         self.released.is_empty()
@@ -931,11 +1001,69 @@ impl Transmitter {
     }
 }
 
+/// `out.push(seg)` when `out` has to grow (out of the hot path's line: the hot path pushes
+/// only into room it has checked, `Transmitter::emit_own`).
+#[cold]
+#[inline(never)]
+fn push_growing(out: &mut Vec<LineSegment>, seg: LineSegment) {
+    out.push(seg);
+}
+
 /// Drops `seg` here, not through the drop glue's call (a ring slave's take drops the copy
 /// it resumed last cycle and the line's last segment on every release).
 #[inline(always)]
 fn drop_in_line(seg: LineSegment) {
     let LineSegment { signal, hint, .. } = seg;
+    drop_parts_in_line(signal, hint);
+}
+
+/// Puts `seg` in `slot`, written over the segment there field by field, and returns that
+/// segment's shared parts (signal and hint) to be dropped: moved whole, the two segments
+/// went through the stack.
+#[inline(always)]
+fn write_over(
+    slot: &mut Option<LineSegment>,
+    seg: LineSegment,
+) -> Option<(LineSignal, Option<Shared<FrameHint>>)> {
+    let LineSegment {
+        start,
+        bit_time,
+        signal,
+        level_before,
+        hint,
+        distorted,
+        then_filler,
+    } = seg;
+    match slot {
+        Some(l) => {
+            l.start = start;
+            l.bit_time = bit_time;
+            l.level_before = level_before;
+            l.distorted = distorted;
+            l.then_filler = then_filler;
+            Some((
+                std::mem::replace(&mut l.signal, signal),
+                std::mem::replace(&mut l.hint, hint),
+            ))
+        }
+        None => {
+            *slot = Some(LineSegment {
+                start,
+                bit_time,
+                signal,
+                level_before,
+                hint,
+                distorted,
+                then_filler,
+            });
+            None
+        }
+    }
+}
+
+/// [`drop_in_line`] of a segment's shared parts.
+#[inline(always)]
+fn drop_parts_in_line(signal: LineSignal, hint: Option<Shared<FrameHint>>) {
     if let LineSignal::Bits(bits) = signal {
         drop(bits);
     }
@@ -1033,6 +1161,44 @@ mod tests {
             && tx.background.iter().all(|q| q.carried)
             && tx.resume_at.is_none_or(|r| tx.resume_is_silent(r)))
         .then(|| (own.start, own.end(), own.bit_time))
+    }
+
+    /// `write_over` leaves its slot as the assignment of the whole segment does, every field
+    /// written (a bits segment with its hint over a filler, a distorted one over one that is
+    /// not, either over nothing), and hands back the replaced segment's signal and hint.
+    #[test]
+    fn a_segment_written_over_another_is_as_assigned() {
+        let bt = Duration::from_picos(BT);
+        let at = |bits: u64| Instant::from_picos(bits * BT);
+        let mut bits = BitVec::new();
+        for i in 0..12 {
+            bits.push(i % 3 == 1);
+        }
+        let hinted = LineSegment {
+            hint: Some(Shared::new(FrameHint {
+                telegram: Shared::from(&[1u8, 2][..]),
+                offset: 4,
+                coded: None,
+            })),
+            then_filler: true,
+            ..LineSegment::bits(at(3), bt, bits.clone(), true)
+        };
+        let filler = LineSegment {
+            distorted: true,
+            ..LineSegment::steady(at(7), bt.saturating_mul(2), LineSignal::Filler, false)
+        };
+        let segments = [hinted, filler];
+        for before in [None, Some(&segments[0]), Some(&segments[1])] {
+            for seg in &segments {
+                let mut slot = before.cloned();
+                let parts = write_over(&mut slot, seg.clone());
+                assert_eq!(format!("{slot:?}"), format!("{:?}", Some(seg)));
+                assert_eq!(
+                    format!("{parts:?}"),
+                    format!("{:?}", before.map(|b| (b.signal.clone(), b.hint.clone())))
+                );
+            }
+        }
     }
 
     /// The merge's inversion taken as the queued copy's own (`push_carried`'s `follows`) only
