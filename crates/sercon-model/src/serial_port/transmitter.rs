@@ -122,11 +122,15 @@ impl Own {
     // than that turn saves.
     #[inline(always)]
     fn coded(self, level: bool, coded: &mut CodedFrames) -> Option<(Coded, Instant)> {
+        let end = self.end();
         let c = coded.coded(self.telegram, self.presync, self.len, level)?;
-        // What `LineSegment::end` gives for the segment of these bits.
-        let end = self
-            .start
-            .saturating_add(self.bit_time.saturating_mul(c.bits.len()));
+        // What `LineSegment::end` gives for the segment of these bits (`len` is their
+        // number, `CodedFrames::lookup`): found without the load of the bits.
+        debug_assert_eq!(
+            end,
+            self.start
+                .saturating_add(self.bit_time.saturating_mul(c.bits.len()))
+        );
         Some((c, end))
     }
 }
