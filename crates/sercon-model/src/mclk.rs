@@ -94,6 +94,28 @@ impl MclkClock {
         }
     }
 
+    /// [`MclkClock::tick_at_or_after`] of `t` and [`MclkClock::instant`] of that tick: in the
+    /// short division's range the instant is a product that cannot saturate
+    /// ([`ShortDivision::div_and_next_multiple`]).
+    #[inline]
+    pub(crate) fn tick_and_instant_at_or_after(&self, t: Instant) -> (u64, Instant) {
+        // As `tick_at_or_after`: ⌈n / p⌉ = ⌊(n − 1) / p⌋ + 1 for n ≥ 1, and n = 0 wraps to
+        // u64::MAX, which no short division takes.
+        if let Some((q, at)) = self
+            .short
+            .div_and_next_multiple(t.as_picos().wrapping_sub(1))
+        {
+            let at = Instant::from_picos(at);
+            debug_assert_eq!((q + 1, at), {
+                let k = self.tick_at_or_after(t);
+                (k, self.instant(k))
+            });
+            return (q + 1, at);
+        }
+        let k = self.tick_at_or_after(t);
+        (k, self.instant(k))
+    }
+
     /// [`MclkClock::tick_at_or_after`] without the short division (out of line, as
     /// [`MclkClock::tick_at_or_before_general`]; the reciprocal of an exact clock past the
     /// short range is taken inline).
@@ -249,6 +271,12 @@ mod tests {
                 let later = Instant::from_picos(t.as_picos() + 1);
                 assert_eq!(c.tick_at_or_before(later), k);
                 assert_eq!(c.tick_at_or_after(later), k + 1);
+                assert_eq!(c.tick_and_instant_at_or_after(t), (k, t), "{hz} {k}");
+                assert_eq!(
+                    c.tick_and_instant_at_or_after(later),
+                    (k + 1, c.instant(k + 1)),
+                    "{hz} {k}"
+                );
             }
         }
     }
@@ -280,6 +308,12 @@ mod tests {
                 let t = Instant::from_picos(ps);
                 assert_eq!(c.tick_at_or_before(t), ps / p, "{hz} {ps}");
                 assert_eq!(c.tick_at_or_after(t), ps.div_ceil(p), "{hz} {ps}");
+                let k = ps.div_ceil(p);
+                assert_eq!(
+                    c.tick_and_instant_at_or_after(t),
+                    (k, Instant::from_picos(k.saturating_mul(p))),
+                    "{hz} {ps}"
+                );
             }
         }
     }

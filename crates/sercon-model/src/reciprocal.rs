@@ -67,8 +67,12 @@ impl Reciprocal {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct ShortDivision {
     m: u64,
-    /// Dividends below this are divided so (0: none).
+    /// Dividends below this are divided so (0: none). At most `2⁶⁴ − d`: the multiple of
+    /// `d` after a quotient of the range, `(n / d + 1) · d` ≤ `n + d`, is below `2⁶⁴`
+    /// ([`ShortDivision::div_and_next_multiple`]).
     below: u64,
+    /// The divisor `d`.
+    d: u64,
 }
 
 impl ShortDivision {
@@ -76,7 +80,11 @@ impl ShortDivision {
     const SHIFT: u32 = 12;
 
     /// No dividend is divided so.
-    pub(crate) const NONE: ShortDivision = ShortDivision { m: 0, below: 0 };
+    pub(crate) const NONE: ShortDivision = ShortDivision {
+        m: 0,
+        below: 0,
+        d: 0,
+    };
 
     /// The short division by `d` (for `d` ≤ 2¹², [`ShortDivision::NONE`]).
     pub(crate) fn new(d: u64) -> Self {
@@ -88,12 +96,15 @@ impl ShortDivision {
         let m = x.div_ceil(d);
         let e = m * d - x;
         let below = if e == 0 { u128::MAX } else { x.div_ceil(e) };
-        match u64::try_from(m) {
-            Ok(m) => ShortDivision {
-                m,
-                below: u64::try_from(below).unwrap_or(u64::MAX),
-            },
-            Err(_) => Self::NONE,
+        // Capped at 2⁶⁴ − d (`below`'s rustdoc): d > 2¹² here, so 2⁶⁴ − d fits.
+        let cap = (1u128 << 64) - d;
+        match (
+            u64::try_from(m),
+            u64::try_from(below.min(cap)),
+            u64::try_from(d),
+        ) {
+            (Ok(m), Ok(below), Ok(d)) => ShortDivision { m, below, d },
+            _ => Self::NONE,
         }
     }
 
@@ -112,6 +123,21 @@ impl ShortDivision {
         } else {
             None
         }
+    }
+
+    /// `n / d` and the next multiple of `d` after `n`, `(n / d + 1) · d`, when `n` is below
+    /// the bound.
+    #[inline]
+    pub(crate) fn div_and_next_multiple(self, n: u64) -> Option<(u64, u64)> {
+        let q = self.div(n)?;
+        // (q + 1) · d ≤ n + d < below + d ≤ 2⁶⁴ (`below`'s cap): neither wraps.
+        let next = q.wrapping_add(1).wrapping_mul(self.d);
+        debug_assert_eq!(
+            Some(next),
+            q.checked_add(1).and_then(|k| k.checked_mul(self.d)),
+            "a short division's next multiple"
+        );
+        Some((q, next))
     }
 }
 
@@ -182,7 +208,51 @@ mod tests {
         assert_eq!(ShortDivision::NONE.div(0), None);
     }
 
+    /// The next multiple after a quotient of the short range stays below 2⁶⁴ at the top of
+    /// the range: the bound is capped at 2⁶⁴ − d (divisors of e = 0, powers of two, had no
+    /// bound below u64::MAX before the cap).
+    #[test]
+    fn the_next_multiple_fits_up_to_the_bound() {
+        for d in [
+            4_097,
+            1 << 13,
+            31_250,
+            62_500,
+            1 << 40,
+            142_857_142_857,
+            u64::MAX / 3,
+            u64::MAX - 1,
+        ] {
+            let s = ShortDivision::new(d);
+            if s == ShortDivision::NONE {
+                continue;
+            }
+            assert!(u128::from(s.below) + u128::from(d) <= 1 << 64, "{d}");
+            for n in [0, 1, d - 1, d, s.below - 1, s.below.saturating_sub(d)] {
+                let q = n / d;
+                let next = (u128::from(q) + 1) * u128::from(d);
+                assert_eq!(
+                    s.div_and_next_multiple(n).map(|(q, m)| (q, u128::from(m))),
+                    (n < s.below).then_some((q, next)),
+                    "{n} / {d}"
+                );
+            }
+            assert_eq!(s.div_and_next_multiple(s.below), None, "{d}");
+        }
+    }
+
     proptest! {
+        #[test]
+        fn the_next_multiple_equals_plain_arithmetic(d in 4_097..=u64::MAX, f in any::<u64>()) {
+            let s = ShortDivision::new(d);
+            let n = f % s.below.max(1);
+            let want = (n < s.below).then(|| {
+                let q = n / d;
+                (q, u64::try_from((u128::from(q) + 1) * u128::from(d)).ok())
+            });
+            prop_assert_eq!(s.div_and_next_multiple(n).map(|(q, m)| (q, Some(m))), want);
+        }
+
         #[test]
         fn equals_plain_division(n in any::<u64>(), d in 1..=u64::MAX, small in 1u64..100_000) {
             for d in [d, small] {

@@ -491,12 +491,11 @@ impl FrameSink for ToProcessor<'_> {
             // receives, `telegram_processor::next_tx_bound`).
             self.out_bound.set(None);
         }
-        let tick = clock.tick_at_or_after(f.start);
+        let (tick, at) = clock.tick_and_instant_at_or_after(f.start);
         // While a frame is in progress the next starts at its end at the earliest
         // (`telegram_processor::first_frame_tick`), which the next ticks hold already.
         if self.tp.rx_now.is_none() {
             if let Some(core) = self.next_core.as_mut() {
-                let at = clock.instant(tick);
                 self.quiet &= at > self.now;
                 // The earlier of the kept instant and the frame's (only the inner one written).
                 match core {
