@@ -302,14 +302,14 @@ impl Engine {
     }
 
     fn apply_entry(&mut self, run: &Run, entry: crate::cycle_plan::PlanEntry) {
-        self.flags.hi |= entry.set_hi;
+        self.flags.raise_hi(entry.set_hi);
         if let Some(level) = entry.conclk {
             self.outputs.conclk_set = level;
         }
         // 816 §2.7: in DIVCLKMODE = 1 only the chosen cycles pulse.
         if entry.divclk_pulse && (!self.s.divclkmode || run.pulse_cycle) {
             // 410B §4.1 5H.13 INT_DIVCLK: set with each DIV_CLK pulse (spec-notes).
-            self.flags.hi |= INT_DIVCLK;
+            self.flags.raise_hi(INT_DIVCLK);
             self.outputs.divclk_until = Some((entry.e + 1).min(run.len));
         }
     }
@@ -363,12 +363,12 @@ impl Engine {
         // 410B §4.1 1AH–1DH / 5H.9-12 INT_TIMEn at TINTn = TCNTST, 0CH.5 CON_CLK set at
         // TINT0 and reset at TINT1; 1EH–20H a DIV_CLK pulse (with INT_DIVCLK, 5H.13) at
         // TDIVCLK = TCNTST, in DIVCLKMODE = 1 only in the chosen cycles (816 §2.7).
-        self.flags.hi |= start.set_hi;
+        self.flags.raise_hi(start.set_hi);
         if let Some(level) = start.conclk {
             self.outputs.conclk_set = level;
         }
         if start.divclk_pulse && (!self.s.divclkmode || pulse_cycle) {
-            self.flags.hi |= INT_DIVCLK;
+            self.flags.raise_hi(INT_DIVCLK);
             self.outputs.divclk_until = Some(1.min(len));
         }
         #[cfg(debug_assertions)]
@@ -381,7 +381,8 @@ impl Engine {
     /// (410B §4.1 4H.2/3 "start transmission block 0/1"). Returns the run.
     #[inline]
     fn begin_run(&mut self, at: u64, len: u64, block: u8, tcntst: u16, pulse_cycle: bool) -> Run {
-        self.flags.lo |= if block == 0 { INT_COMBLK0 } else { INT_COMBLK1 };
+        self.flags
+            .raise_lo(if block == 0 { INT_COMBLK0 } else { INT_COMBLK1 });
         let run = Run {
             ref_tick: at,
             ref_e: 0,
@@ -426,7 +427,7 @@ impl Engine {
         // processor runs (MSTEN or ENTMT), which ends it at the end marker.
         let entmt = self.regs.stored(sercon_regs::Register::Ctrl3) & (1 << 8) != 0;
         if !(self.s.msten || entmt) {
-            self.flags.lo |= INT_COMEND;
+            self.flags.raise_lo(INT_COMEND);
         }
         self.outputs.divclk_until = None;
         self.cycle.tcnt_hold = (u64::from(run.tcntst) + self.e_at(&run, at)) as u16;
@@ -526,10 +527,10 @@ impl Engine {
         self.cycle.cycles_left = 1;
         // The offset-0 entries as `start_cycle_block` applies them (`CyclePlan::start`;
         // DIVCLKMODE = 0 or NDIVCLK = 0 here).
-        self.flags.hi |= start.set_hi;
+        self.flags.raise_hi(start.set_hi);
         let pulse = start.divclk_pulse && !self.s.divclkmode;
         if pulse {
-            self.flags.hi |= INT_DIVCLK;
+            self.flags.raise_hi(INT_DIVCLK);
         }
         let conclk = start.conclk.unwrap_or(self.outputs.conclk_set);
         // No pulse runs without a cycle (`end_cycle`, `end_quietly`).

@@ -221,7 +221,7 @@ impl Engine {
     /// The effects of the watchdog going active.
     // 816 §2.6: "the interrupt flag INT_WDOG is set"; §2.6.2: ENTMT := 0, PHAS0 := 0H.
     fn watchdog_expired(&mut self) {
-        self.flags.wdog = true;
+        self.flags.set_wdog(true);
         let c3 = self.regs.stored(Register::Ctrl3);
         self.regs.set_stored(Register::Ctrl3, c3 & !(1 << 8));
         let phas = self.regs.stored(Register::Phas);
@@ -234,8 +234,8 @@ impl Engine {
     // after the status bit INT_WDOG is cleared."
     pub(crate) fn locked_bits(&self, register: Option<Register>) -> u16 {
         match register {
-            Some(Register::Ctrl3) if self.flags.wdog => 1 << 8,
-            Some(Register::Phas) if self.flags.wdog => 0x00FF,
+            Some(Register::Ctrl3) if self.flags.wdog() => 1 << 8,
+            Some(Register::Phas) if self.flags.wdog() => 0x00FF,
             _ => 0,
         }
     }

@@ -79,9 +79,9 @@ pub(crate) fn mst_end(chip: &mut Chip, tick: u64, fcs_ok: bool, bytes: &[u8]) {
         // TSCYC − JTSCYC1 ..= TSCYC + JTSCYC2 µs after the previous one.
         let dt = chip.engine.pre.periods_in(tick.saturating_sub(last));
         if dt < tscyc.saturating_sub(j1) {
-            chip.engine.flags.lo |= INT_MSTEARLY;
+            chip.engine.flags.raise_lo(INT_MSTEARLY);
         } else if dt > tscyc.saturating_add(j2) || chip.tp.mst.missed_since {
-            chip.engine.flags.lo |= INT_MSTLATE;
+            chip.engine.flags.raise_lo(INT_MSTLATE);
         }
     }
     chip.tp.mst.last_end = Some(tick);
@@ -91,11 +91,11 @@ pub(crate) fn mst_end(chip: &mut Chip, tick: u64, fcs_ok: bool, bytes: &[u8]) {
     chip.tp.phasrec = phase;
     if phase & 0x07 == 0 {
         // 410B §4.1 4H.5 INT_PHAS0: "Interrupt phase MST = 0" (phase bits 2-0).
-        chip.engine.flags.lo |= INT_PHAS0;
+        chip.engine.flags.raise_lo(INT_PHAS0);
     }
     let block = phase_block(chip, phase);
     if block.is_none() {
-        chip.engine.flags.lo |= INT_PHASERR;
+        chip.engine.flags.raise_lo(INT_PHASERR);
     }
     // The slave's cycle restarts at the MST's end (spec-notes "slave cycle").
     chip.engine
@@ -152,7 +152,7 @@ pub(crate) fn deadline(chip: &mut Chip, tick: u64) {
     let n = tp::ram_word(chip, NMSTERR);
     tp::set_ram_word(chip, NMSTERR, n.saturating_add(1));
     if chip.tp.mst.missed_prev {
-        chip.engine.flags.lo |= INT_MSTMIS;
+        chip.engine.flags.raise_lo(INT_MSTMIS);
     }
     chip.tp.mst.missed_prev = true;
     chip.tp.mst.missed_since = true;

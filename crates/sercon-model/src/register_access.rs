@@ -85,8 +85,8 @@ fn status_bits(chip: &Chip, register: Register) -> u16 {
                 | bit(reactn, 15)
         }
         // 410B §4.1 4H/5H: the interrupt flags.
-        Register::IntFlagsLo => e.flags.lo,
-        Register::IntFlagsHi => e.flags.hi,
+        Register::IntFlagsLo => e.flags.lo(),
+        Register::IntFlagsHi => e.flags.hi(),
         // 410B §4.1 0CH.4 level at CON_CLK, 0CH.7 level at CYC_CLK.
         Register::Ctrl0C => bit(e.outputs.conclk_level(&e.s), 4) | bit(chip.cyc_clk, 7),
         // 410B §4.1 12H TCNTLT.
@@ -105,9 +105,9 @@ fn status_bits(chip: &Chip, register: Register) -> u16 {
         // 816 §2.11.2 28H.0 WDOG_STAT, 28H.1 INT_WDOG, 28H.2 WDOUT_STAT, 28H.6 INT_RSCEND.
         Register::WdogCtrl => {
             bit(e.wd.running, 0)
-                | bit(e.flags.wdog, 1)
+                | bit(e.flags.wdog(), 1)
                 | bit(e.wd.output_enabled, 2)
-                | bit(e.flags.rscend, 6)
+                | bit(e.flags.rscend(), 6)
         }
         _ => 0,
     }
@@ -136,8 +136,8 @@ pub(crate) fn write(chip: &mut Chip, address: u8, value: u16) {
     let e = &mut chip.engine;
     match register {
         // ERRATA "410B 4H/5H": writing 1 clears a flag, 0 leaves it.
-        Register::IntFlagsLo => e.flags.lo &= !req.clear,
-        Register::IntFlagsHi => e.flags.hi &= !req.clear,
+        Register::IntFlagsLo => e.flags.clear_lo(req.clear),
+        Register::IntFlagsHi => e.flags.clear_hi(req.clear),
         // 410B §4.1 17H CLR_PROGERR_FL: writing 1 clears a flag.
         Register::ProgerrFl => chip.tp.progerr &= !req.clear,
         // 410B §4.1 27H TFIFO: a write appends to the transmit FIFO.
@@ -164,10 +164,10 @@ pub(crate) fn write(chip: &mut Chip, address: u8, value: u16) {
         Register::WdogCtrl => {
             // 816 §2.11.2 28H.1 CLR_INT_WDOG, 28H.6 CLR_RSCEND.
             if req.clear & (1 << 1) != 0 {
-                e.flags.wdog = false;
+                e.flags.set_wdog(false);
             }
             if req.clear & (1 << 6) != 0 {
-                e.flags.rscend = false;
+                e.flags.set_rscend(false);
             }
             if req.actions & (1 << 2) != 0 {
                 // 816 §2.11.2 28H.2 WDOUT_SET: enables output WDOGN (until reset).

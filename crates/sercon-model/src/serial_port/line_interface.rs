@@ -315,10 +315,10 @@ impl Chip {
             // 410B §4.1 4H.0 INT_RDIST "receive data distorted", 4H.1 INT_FIBBR "no receive
             // data": set when RDIST / FIBBR become 1.
             if applied.rdist_rose {
-                self.engine.flags.lo |= INT_RDIST;
+                self.engine.flags.raise_lo(INT_RDIST);
             }
             if applied.fibbr_rose {
-                self.engine.flags.lo |= INT_FIBBR;
+                self.engine.flags.raise_lo(INT_FIBBR);
             }
         }
         let after = (
@@ -421,10 +421,10 @@ impl Chip {
             let (at, applied) = probe.step(Instant::MAX, true)?;
             if !self.in_reset {
                 if applied.rdist_rose {
-                    flags.lo |= INT_RDIST;
+                    flags.raise_lo(INT_RDIST);
                 }
                 if applied.fibbr_rose {
-                    flags.lo |= INT_FIBBR;
+                    flags.raise_lo(INT_FIBBR);
                 }
             }
             let after = (probe.idle(), probe.reactn(), probe.lerrn());

@@ -486,7 +486,7 @@ pub(crate) fn set_flmdtadr(chip: &mut Chip, value: bool) {
 pub(crate) fn prog_error(chip: &mut Chip, e: ProgErr) {
     chip.tp.irregular = chip.tp.irregular.wrapping_add(1);
     chip.tp.progerr |= e.bit();
-    chip.engine.flags.hi |= INT_PROGERR;
+    chip.engine.flags.raise_hi(INT_PROGERR);
 }
 
 impl TelegramProcessor {
@@ -975,7 +975,7 @@ fn announce_opened(chip: &mut Chip, tick: u64) -> bool {
     chip.tp.flrwait = true;
     chip.tp.thwpt = at;
     chip.tp.thw = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
-    chip.engine.flags.lo |= INT_RWAIT;
+    chip.engine.flags.raise_lo(INT_RWAIT);
     true
 }
 
@@ -1232,7 +1232,7 @@ fn end_marker(chip: &mut Chip, tick: u64, at: u16) {
     );
     output_bound::status_written(chip, u32::from(at) + 1, 1);
     // 410B §4.1 4H.4 INT_COMEND "end of transmission block"; 3H.6 COMACT falls.
-    chip.engine.flags.lo |= INT_COMEND;
+    chip.engine.flags.raise_lo(INT_COMEND);
 }
 
 /// When the block's last telegram ends, if one is still being sent or received after

@@ -218,7 +218,7 @@ fn accept(chip: &mut Chip, tick: u64, at_tick: u64, bytes: &[u8]) -> RxRole {
     // Accepted: 3H.10 FLRWAIT falls, 3H.11 FLREC rises, 4H.13 INT_RSTART, 25H/26H.
     chip.tp.flrwait = false;
     chip.tp.flrec = true;
-    chip.engine.flags.lo |= INT_RSTART;
+    chip.engine.flags.raise_lo(INT_RSTART);
     chip.tp.thrpt = at & 0x03FF;
     chip.tp.thr = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
     let mut h = hdr;
@@ -307,7 +307,7 @@ fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHead, bytes: &[u8], fcs_ok
         set_flmdtadr(chip, matches);
         if hdr.achk() && !matches {
             // Phase 1/2: an MDT for another drive ends the wait without data.
-            chip.engine.flags.lo |= INT_REND;
+            chip.engine.flags.raise_lo(INT_REND);
             rscend(chip);
             return;
         }
@@ -316,12 +316,12 @@ fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHead, bytes: &[u8], fcs_ok
         // 410B §4.2.1 RERR "errored or not received", NERR "Error counter"; 4H.15
         // INT_RERR; data unchanged; 5H.8 INT_RMISS on the second in a row.
         if hdr.rerr() {
-            chip.engine.flags.hi |= INT_RMISS;
+            chip.engine.flags.raise_hi(INT_RMISS);
         }
         h = h.with_rerr(true);
         write_word0(chip, at, h);
         count_error(chip, at);
-        chip.engine.flags.lo |= INT_RERR | INT_REND;
+        chip.engine.flags.raise_lo(INT_RERR | INT_REND);
         service_error(chip, at, h);
         rscend(chip);
         return;
@@ -333,7 +333,7 @@ fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHead, bytes: &[u8], fcs_ok
         // 410B §4.2.1 ACHK = 0: "The received address is stored at ADR"; 5H.15
         // INT_NEWADR "address change" (spec-notes).
         h = h.with_adr(adr);
-        chip.engine.flags.hi |= INT_NEWADR;
+        chip.engine.flags.raise_hi(INT_NEWADR);
     }
     let val = match buffering {
         // 410B §4.2.1 VAL, double buffer: the buffer just written becomes the valid one.
@@ -342,7 +342,7 @@ fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHead, bytes: &[u8], fcs_ok
     };
     h = h.with_rerr(false).with_val(val);
     write_word0(chip, at, h);
-    chip.engine.flags.lo |= INT_REND;
+    chip.engine.flags.raise_lo(INT_REND);
     rscend(chip);
 }
 
@@ -350,7 +350,7 @@ fn finish(chip: &mut Chip, tick: u64, at: u16, hdr: RxHead, bytes: &[u8], fcs_ok
 /// container that need to be worked on or in case the work is completed".
 fn rscend(chip: &mut Chip) {
     if chip.cfg.variant == Variant::Sercon816 {
-        chip.engine.flags.rscend = true;
+        chip.engine.flags.set_rscend(true);
     }
 }
 
@@ -602,7 +602,7 @@ pub(super) fn missing(chip: &mut Chip, at: u16, hdr: RxHead) {
     // Re-read: the header in RAM is the truth (RERR of the previous cycle).
     let rerr_before = walk::word(&chip.ram, u32::from(at)).is_some_and(|w| w & (1 << 13) != 0);
     if rerr_before {
-        chip.engine.flags.hi |= INT_RMISS;
+        chip.engine.flags.raise_hi(INT_RMISS);
     }
     let mut h = hdr.with_rerr(true);
     if let Some(w0) = walk::word(&chip.ram, u32::from(at)) {

@@ -92,7 +92,7 @@ pub(super) fn start(chip: &mut Chip, tick: u64, at: u16, nth: TxHead) {
     // 410B §4.1 21H THTPT / 22H THT: header of the transmitted telegram; 4H.10 INT_TSTART.
     chip.tp.thtpt = at;
     chip.tp.tht = walk::word(&chip.ram, u32::from(at)).unwrap_or(0);
-    chip.engine.flags.lo |= INT_TSTART;
+    chip.engine.flags.raise_lo(INT_TSTART);
     if let Some(b) = chip.tp.block.as_mut() {
         b.last_end = b.last_end.max(end);
     }
@@ -365,14 +365,14 @@ fn assemble_general(chip: &mut Chip, at: u16, hdr: &TxHead) {
 /// 410B §4.1 5H.0-7 INT_SC_n.
 pub(super) fn raise_sc(chip: &mut Chip, nsv: u8, raised: bool) {
     if raised {
-        chip.engine.flags.hi |= 1 << (nsv & 7);
+        chip.engine.flags.raise_hi(1 << (nsv & 7));
     }
 }
 
 /// The telegram being sent ended at `tick`: FLTMT falls, INT_TEND (410B §4.1 3H.9, 4H.11).
 pub(super) fn end(chip: &mut Chip, tick: u64) {
     chip.tp.tx_end = Due::NONE;
-    chip.engine.flags.lo |= INT_TEND;
+    chip.engine.flags.raise_lo(INT_TEND);
     if let Some(b) = chip.tp.block.as_mut() {
         b.last_end = b.last_end.max(tick);
     }
