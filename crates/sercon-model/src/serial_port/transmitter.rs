@@ -1029,6 +1029,11 @@ fn write_over(
     slot: &mut Option<LineSegment>,
     seg: LineSegment,
 ) -> Option<(LineSignal, Option<Shared<FrameHint>>)> {
+    let Some(l) = slot else {
+        // Nothing to write over (only before the first release): the segment moved in.
+        *slot = Some(seg);
+        return None;
+    };
     let LineSegment {
         start,
         bit_time,
@@ -1038,31 +1043,15 @@ fn write_over(
         distorted,
         then_filler,
     } = seg;
-    match slot {
-        Some(l) => {
-            l.start = start;
-            l.bit_time = bit_time;
-            l.level_before = level_before;
-            l.distorted = distorted;
-            l.then_filler = then_filler;
-            Some((
-                std::mem::replace(&mut l.signal, signal),
-                std::mem::replace(&mut l.hint, hint),
-            ))
-        }
-        None => {
-            *slot = Some(LineSegment {
-                start,
-                bit_time,
-                signal,
-                level_before,
-                hint,
-                distorted,
-                then_filler,
-            });
-            None
-        }
-    }
+    l.start = start;
+    l.bit_time = bit_time;
+    l.level_before = level_before;
+    l.distorted = distorted;
+    l.then_filler = then_filler;
+    Some((
+        std::mem::replace(&mut l.signal, signal),
+        std::mem::replace(&mut l.hint, hint),
+    ))
 }
 
 /// [`drop_in_line`] of a segment's shared parts.
@@ -1119,6 +1108,15 @@ mod tests {
     /// One bit time; every instant below is a whole number of them (ties are frequent).
     const BT: u64 = 1_000;
 
+    /// `n` bits, every third one set from bit `first` on (a pattern with edges and runs).
+    fn every_third(n: usize, first: usize) -> BitVec {
+        let mut v = BitVec::new();
+        for i in 0..n {
+            v.push(i % 3 == first % 3);
+        }
+        v
+    }
+
     /// What is done to the transmitter, at a time counted in bit times from the last release.
     #[derive(Debug, Clone)]
     enum Op {
@@ -1174,10 +1172,7 @@ mod tests {
     fn a_segment_written_over_another_is_as_assigned() {
         let bt = Duration::from_picos(BT);
         let at = |bits: u64| Instant::from_picos(bits * BT);
-        let mut bits = BitVec::new();
-        for i in 0..12 {
-            bits.push(i % 3 == 1);
-        }
+        let bits = every_third(12, 1);
         let hinted = LineSegment {
             hint: Some(Shared::new(FrameHint {
                 telegram: Shared::from(&[1u8, 2][..]),
@@ -1214,10 +1209,7 @@ mod tests {
     fn a_merge_after_another_copy_chains_its_inversion() {
         let bt = Duration::from_picos(BT);
         let at = |bits: u64| Instant::from_picos(bits * BT);
-        let mut bits = BitVec::new();
-        for i in 0..20 {
-            bits.push(i % 3 == 0);
-        }
+        let bits = every_third(20, 0);
         let first = LineSegment {
             then_filler: true,
             ..LineSegment::bits(at(10), bt, bits.clone(), false)
@@ -1278,20 +1270,13 @@ mod tests {
             ..Transmitter::default()
         };
         let mut plain = tx.clone();
-        let bits = |n: usize| {
-            let mut v = BitVec::new();
-            for i in 0..n {
-                v.push(i % 3 == 0);
-            }
-            v
-        };
         let own_at = Instant::from_picos(21 * BT / 2);
         for t in [&mut tx, &mut plain] {
             t.transmit(own_at, bt, false, &[0x12, 0x34]);
-            t.push_forwarded(LineSegment::bits(at(11), bt, bits(200), false));
+            t.push_forwarded(LineSegment::bits(at(11), bt, every_third(200, 0), false));
             t.release_with::<true>(at(12));
-            t.push_forwarded(LineSegment::bits(at(300), bt, bits(20), true));
-            t.push_forwarded(LineSegment::bits(at(310), bt, bits(20), false));
+            t.push_forwarded(LineSegment::bits(at(300), bt, every_third(20, 0), true));
+            t.push_forwarded(LineSegment::bits(at(310), bt, every_third(20, 0), false));
         }
         plain.split_merged();
         assert!(tx.tail.is_some(), "the second copy is merged");
@@ -1316,13 +1301,6 @@ mod tests {
     fn a_merged_copy_then_own_is_taken_as_one_only_when_the_loop_would() {
         let bt = Duration::from_picos(BT);
         let at = |bits: u64| Instant::from_picos(bits * BT);
-        let bits = |n: usize, phase: usize| {
-            let mut v = BitVec::new();
-            for i in 0..n {
-                v.push((i + phase) % 3 == 0);
-            }
-            v
-        };
         let own_at = Instant::from_picos(21 * BT / 2);
         // The instant the own telegram ends (a release there queues the rest of the copy
         // it shadows, which resumes at its next bit boundary).
@@ -1352,7 +1330,7 @@ mod tests {
                 };
                 tx.push_background(LineSegment::steady(at(0), bt, LineSignal::Filler, false));
                 tx.transmit(own_at, bt, false, &[0x12, 0x34]);
-                tx.push_forwarded(LineSegment::bits(at(11), bt, bits(200, 0), false));
+                tx.push_forwarded(LineSegment::bits(at(11), bt, every_third(200, 0), false));
                 let release = |tx: &mut Transmitter, r: Instant| {
                     let r = if r == OWN_END { tx.own_until } else { r };
                     tx.release(r);
@@ -1361,10 +1339,10 @@ mod tests {
                 for &r in &before {
                     release(&mut tx, r);
                 }
-                tx.push_forwarded(LineSegment::bits(at(copies), bt, bits(20, 1), true));
+                tx.push_forwarded(LineSegment::bits(at(copies), bt, every_third(20, 2), true));
                 tx.push_forwarded(LineSegment {
                     then_filler: true,
-                    ..LineSegment::bits(at(copies + 10), bt, bits(20, 2), false)
+                    ..LineSegment::bits(at(copies + 10), bt, every_third(20, 1), false)
                 });
                 assert!(tx.tail.is_some(), "case {case}: the second copy is merged");
                 for &r in &after {
