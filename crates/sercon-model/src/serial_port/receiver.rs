@@ -495,7 +495,12 @@ impl Receiver {
         debug_assert!(self.implied.as_ref().is_some_and(|u| u.running.is_none()));
         self.implied_unwritten = true;
         // `is_filler_to_filler`: the last telegram's filler ran at this bit time, so its
-        // reciprocal is the one kept (no division here).
+        // reciprocal is the one kept (no division here; the division only if that ever
+        // failed to hold in a release build).
+        debug_assert!(
+            self.ready.is_some(),
+            "filler to filler without a running filler"
+        );
         let bit_time = match self.ready {
             Some(r) => r.bit_time,
             None => reciprocal_of(bt),

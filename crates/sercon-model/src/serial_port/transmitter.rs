@@ -921,7 +921,7 @@ impl Transmitter {
     /// when the resume is silent (`then_filler`, spec-notes "Implied filler"), which
     /// leaves the implied filler open. The segment is written where it is kept, from
     /// registers: built on the stack and copied, its 16-byte loads waited on the narrower
-    /// stores that built it (docs/performance.md, "Store-forwarding stalls"). Debug builds
+    /// stores that built it (docs/performance.md, "Session 32"). Debug builds
     /// compare the result with `emit` of the segment built whole.
     #[inline(never)]
     fn emit_own(&mut self, start: Instant, bit_time: Duration, c: Coded, level_before: bool) {
