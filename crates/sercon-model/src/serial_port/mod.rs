@@ -217,7 +217,11 @@ impl SerialPort {
             (TxMode::ZeroBitStream | TxMode::Filler, None) => steady(light(false)),
             // 410B §2 TM1: "zero bit stream"; sercos-facts: filler between telegrams.
             (TxMode::ZeroBitStream | TxMode::Filler, Some(_)) => steady(LineSignal::Filler),
-            (TxMode::Repeat, _) => match self.rx.last_segment().and_then(|s| s.from_instant(at)) {
+            (TxMode::Repeat, _) => match self
+                .rx
+                .last_segment_at_level()
+                .and_then(|s| s.from_instant(at))
+            {
                 Some(current) => self.forwarded(current),
                 None => steady(LineSignal::Dark),
             },
@@ -250,14 +254,19 @@ impl SerialPort {
         mut seg: LineSegment,
         frames: &mut F,
     ) -> LineInput {
-        if AT_LEVEL && self.rx.off_line_level(&seg) {
-            seg.invert();
-        }
+        let mut inverted = AT_LEVEL && self.rx.off_line_level(&seg);
         // 410B §1: "The slaves regenerate and repeat their received data"; 1H.3 REPON.
         // The copy is queued before the receiver takes `seg`: the receiver reads nothing of
         // the transmitter, nor the transmitter of the receiver (queued before the input as
         // after it; no `Option` of a copy kept across the input).
         if self.cfg.tx_mode == TxMode::Repeat {
+            // The copy is of the telegram at the line's level: taken there first. Else the
+            // receiver takes it as it came, inverted (`Receiver::input`: no branch on the
+            // level on its short path).
+            if inverted {
+                seg.invert();
+                inverted = false;
+            }
             if self.tx.carried_forwarding && self.cfg.polrxd == self.cfg.poltxd {
                 // A copy the user carries is only followed: its hint is never read (a
                 // resume cuts it; spec-notes "Followed copies"), so it is not copied; not
@@ -286,6 +295,7 @@ impl SerialPort {
         };
         let short = self.rx.input::<AT_LEVEL, _>(
             seg,
+            inverted,
             &self.cfg,
             Sinks {
                 events: &mut self.events,

@@ -46,6 +46,11 @@ struct Running {
 pub(crate) struct Receiver {
     /// The last segment received (the line's signal from its start on).
     last: Option<LineSegment>,
+    /// `last` was kept as it came, from the level other than the line's: the line's levels
+    /// are its levels negated (NRZI decodes it the same, 410B §4.1 1H.12 RXDNRZ = 0). Only
+    /// [`Receiver::filler_to_filler`] sets it (no branch on the level on its path); every
+    /// other change of `last` takes it to the line's level first ([`Receiver::settle_last`]).
+    last_inverted: bool,
     /// The level `last` gives at an instant, as last asked for (`Receiver::level_at`): a
     /// simulation asks for the level at the start of the segment it is about to hand over,
     /// and taking that segment needs it again. Cleared whenever `last` changes.
@@ -196,9 +201,29 @@ impl Receiver {
         self.last.as_ref().map(|s| s.bit_time)
     }
 
-    /// The last segment received.
+    /// The last segment received, as far as its start, kind, end and implied filler go
+    /// (its levels may be the line's negated, [`Receiver::last_inverted`]: read them through
+    /// [`Receiver::level_at`] or [`Receiver::last_segment_at_level`]).
     pub(crate) fn last_segment(&self) -> Option<&LineSegment> {
         self.last.as_ref()
+    }
+
+    /// The last segment received, at the line's level ([`Receiver::settle_last`] first).
+    pub(crate) fn last_segment_at_level(&mut self) -> Option<&LineSegment> {
+        self.settle_last();
+        self.last.as_ref()
+    }
+
+    /// Takes the last segment to the line's level when it was kept from the other
+    /// ([`Receiver::last_inverted`]): the levels read are the same.
+    #[inline]
+    pub(crate) fn settle_last(&mut self) {
+        if self.last_inverted {
+            self.last_inverted = false;
+            if let Some(last) = self.last.as_mut() {
+                last.invert();
+            }
+        }
     }
 
     /// The receive line's light level at `t` as the last segment received decides it
@@ -210,7 +235,8 @@ impl Receiver {
         {
             return Some(level);
         }
-        let level = self.last.as_ref()?.level_at(t);
+        // Kept from the other level (`last_inverted`): every level is the other.
+        let level = self.last.as_ref()?.level_at(t) ^ self.last_inverted;
         self.level_memo.set(Some((t, level)));
         Some(level)
     }
@@ -311,7 +337,7 @@ impl Receiver {
             .then(|| Ready {
                 at,
                 bit_time: Reciprocal::new(last.bit_time.as_picos()),
-                level: last.level_at(at),
+                level: last.level_at(at) ^ self.last_inverted,
             })
     }
 
@@ -344,24 +370,47 @@ impl Receiver {
     /// `AT_LEVEL`: `seg` was taken to the line's level ([`Receiver::off_line_level`]), so the
     /// level the filler-to-filler path needs is known to be its `level_before` whenever a
     /// segment was received before (debug builds check it).
+    ///
+    /// `inverted`: `seg` is to be taken inverted (to the line's level,
+    /// [`Receiver::off_line_level`]; only with `AT_LEVEL`). The filler-to-filler path keeps
+    /// it as it came, with [`Receiver::last_inverted`] set, rather than branch on it.
     pub(crate) fn input<const AT_LEVEL: bool, F: FrameSink>(
         &mut self,
-        seg: LineSegment,
+        mut seg: LineSegment,
+        inverted: bool,
         cfg: &PortConfig,
         sinks: Sinks<'_, F>,
     ) -> bool {
+        debug_assert!(AT_LEVEL || !inverted, "inverted only at the line's level");
         let Sinks { events, frames } = sinks;
-        if self.is_filler_to_filler::<AT_LEVEL>(&seg, cfg, events) {
+        if self.is_filler_to_filler::<AT_LEVEL>(&seg, inverted, cfg, events) {
             #[cfg(debug_assertions)]
-            let expected = self.general_outcome(&seg, cfg, events);
-            self.filler_to_filler(seg, events, frames);
+            let expected = {
+                let mut at_level = seg.clone();
+                if inverted {
+                    at_level.invert();
+                }
+                // The general path's state, and the level the telegram taken to the line's
+                // level leaves (the filler's, `Ready::level`).
+                (
+                    self.general_outcome(&at_level, cfg, events),
+                    at_level.level_after_bits(),
+                )
+            };
+            self.filler_to_filler(seg, inverted, events, frames);
             #[cfg(debug_assertions)]
             debug_assert_eq!(
                 expected,
-                (self.digest(), events.digest()),
+                (
+                    (self.digest(), events.digest()),
+                    self.ready.map(|r| r.level)
+                ),
                 "the filler-to-filler path differs from the general one"
             );
             return true;
+        }
+        if inverted {
+            seg.invert();
         }
         self.input_general(seg, cfg, events, frames);
         false
@@ -375,6 +424,7 @@ impl Receiver {
         events: &mut LineEvents,
         frames: &mut F,
     ) {
+        self.settle_last();
         self.write_implied();
         if let Some(undo) = self.implied.take()
             && seg.start <= undo.at
@@ -430,6 +480,7 @@ impl Receiver {
     fn is_filler_to_filler<const AT_LEVEL: bool>(
         &self,
         seg: &LineSegment,
+        inverted: bool,
         cfg: &PortConfig,
         events: &LineEvents,
     ) -> bool {
@@ -439,7 +490,7 @@ impl Receiver {
             !AT_LEVEL
                 || self.ready.is_none()
                 || !matches!(seg.signal, LineSignal::Bits(_))
-                || self.level_at(seg.start) == Some(seg.level_before),
+                || self.level_at(seg.start) == Some(seg.level_before ^ inverted),
             "a segment taken to the line's level starts from another"
         );
         let bt = seg.bit_time;
@@ -464,6 +515,7 @@ impl Receiver {
     fn filler_to_filler<F: FrameSink>(
         &mut self,
         seg: LineSegment,
+        inverted: bool,
         events: &mut LineEvents,
         frames: &mut F,
     ) {
@@ -486,7 +538,18 @@ impl Receiver {
             seg.level_after_bits().unwrap_or(seg.level_before),
             "the level after the bits"
         );
-        self.last = Some(seg);
+        // Taken inverted (`inverted`), its bits leave the line at the other level; it is kept
+        // as it came, its levels read negated (`last_inverted`).
+        let level = level ^ inverted;
+        // The segment kept before is dropped by its parts (its drop glue went out of line).
+        if let Some(old) = self.last.replace(seg) {
+            let LineSegment { signal, hint, .. } = old;
+            if let LineSignal::Bits(bits) = signal {
+                drop(bits);
+            }
+            drop(hint);
+        }
+        self.last_inverted = inverted;
         self.level_memo.set(None);
         // The state `compute_ready` finds: this telegram's implied filler runs. Its record
         // for taking it back (the previous one's written over: `ready` is one without a
@@ -1162,14 +1225,14 @@ mod tests {
             let start = start_after(end, gap);
             let level = fast.level_at(start).unwrap_or(false);
             let seg = segment(kind, start, len, level == keep_level);
-            taken += u32::from(fast.is_filler_to_filler::<false>(&seg, &cfg, &ev_fast));
+            taken += u32::from(fast.is_filler_to_filler::<false>(&seg, false, &cfg, &ev_fast));
             end = seg.end().unwrap_or(start);
             let mut sink = |f: HeardFrame| got_fast.push((f.start, f.end, f.bytes, f.fcs_ok));
             let sinks = Sinks {
                 events: &mut ev_fast,
                 frames: &mut sink,
             };
-            fast.input::<false, _>(seg.clone(), &cfg, sinks);
+            fast.input::<false, _>(seg.clone(), false, &cfg, sinks);
             let mut sink = |f: HeardFrame| got_general.push((f.start, f.end, f.bytes, f.fcs_ok));
             general.input_general(seg, &cfg, &mut ev_general, &mut sink);
             prop_assert_eq!(fast.digest(), general.digest());
@@ -1210,17 +1273,14 @@ mod tests {
                 aligned = aligned.inverted();
                 inverted += 1;
             }
-            let mut seg = seg;
-            if leveled.off_line_level(&seg) {
-                seg.invert();
-            }
-            taken += u32::from(leveled.is_filler_to_filler::<true>(&seg, &cfg, &ev_leveled));
+            let off = leveled.off_line_level(&seg);
+            taken += u32::from(leveled.is_filler_to_filler::<true>(&seg, off, &cfg, &ev_leveled));
             let mut sink = |f: HeardFrame| got_leveled.push((f.start, f.end, f.bytes, f.fcs_ok));
             let sinks = Sinks {
                 events: &mut ev_leveled,
                 frames: &mut sink,
             };
-            leveled.input::<true, _>(seg, &cfg, sinks);
+            leveled.input::<true, _>(seg, off, &cfg, sinks);
             let mut sink = |f: HeardFrame| got_general.push((f.start, f.end, f.bytes, f.fcs_ok));
             general.input_general(aligned, &cfg, &mut ev_general, &mut sink);
             prop_assert_eq!(leveled.digest(), general.digest());
@@ -1302,7 +1362,7 @@ mod tests {
                 events: &mut ev_fast,
                 frames: &mut none,
             };
-            let short = fast.input::<false, _>(seg.clone(), &cfg, sinks);
+            let short = fast.input::<false, _>(seg.clone(), false, &cfg, sinks);
             general.input_general(seg, &cfg, &mut ev_general, &mut none);
             // The first telegram finds no filler running; the one cut short (gap -3) takes
             // the general path.
@@ -1349,7 +1409,7 @@ mod tests {
                         events: &mut events,
                         frames: &mut sink,
                     };
-                    short += u32::from(rx.input::<false, _>(seg, &cfg, sinks));
+                    short += u32::from(rx.input::<false, _>(seg, false, &cfg, sinks));
                     ready += u32::from(rx.ready.is_some());
                     // From half the bits back to 12 bit times past the bits, by thirds of a
                     // bit time.
