@@ -1328,8 +1328,10 @@ impl Simulation {
             return;
         };
         seg.start = seg.start.saturating_add(*delay);
-        if self.nodes.first().is_some_and(|m| m.powered) {
-            self.deliver(0, seg, 0, false);
+        match self.nodes.first() {
+            Some(m) if m.powered && m.clock.is_identity() => self.deliver_into_master(seg, 0),
+            Some(m) if m.powered => self.deliver(0, seg, 0, false),
+            _ => {}
         }
     }
 
@@ -1447,8 +1449,10 @@ impl Simulation {
     }
 
     /// [`Simulation::deliver`]; `swept`: a slave's delivery of the master's segment in a
-    /// sweep, with what every slave's delivery of it shares found once (`sim/swept.rs`),
-    /// taken as found when the segment comes in order and is the master's bits.
+    /// sweep, with what every slave's delivery of it shares found once (`sim/swept.rs`), or
+    /// the master's of a segment back round a plain ring (`Swept::INTO_MASTER`), taken as
+    /// found when the segment comes in order and is bits; otherwise the general way
+    /// (`take_general`, out of line).
     fn deliver_in(
         &mut self,
         j: usize,
@@ -1481,66 +1485,23 @@ impl Simulation {
                 ),
                 "a swept delivery's run-ahead end"
             );
-            past = sw.past();
+            // `run_ahead` takes the sweep's promise (`swept_run_bounds`), not `past`.
+            past = None;
         } else {
-            if node.clock.is_identity() {
-                local.start = node.clock.to_local(local.start);
-            } else {
-                local.start = node.map_in(local.start, &local);
-            }
-            if local.start < node.in_floor {
-                let fast = self.delivery == Delivery::Fast;
-                match out_of_order(&mut self.stats, fast, node, local) {
-                    Some(s) => local = s,
-                    None => return,
-                }
-            }
-            node.in_floor = local.start;
-            // The fast path leaves out segments this receiver ignores, so the level it saw
-            // last may differ from the sender's: a telegram is taken from the level the
-            // receiver is at (NRZI decodes an inverted telegram the same), by the chip
-            // (`Chip::line_input_at_level`; the sender's hint has the inverted bits at hand,
-            // `FrameHint::coded`). Nothing below reads the bits or the level before that.
-            if matches!(local.signal, LineSignal::Filler) {
-                node.continue_filler(&mut local);
-            }
-            // The exact path matches the repeater's copies with what it delivered; on the fast
-            // path the chip releases none (`Chip::set_forward_output`).
-            if repeating && self.delivery == Delivery::Exact {
-                let lat = local.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
-                node.expect.push_back(crate::node::ExpectedCopy {
-                    at: local.start.saturating_add(lat),
-                    origin,
-                    replayed: false,
-                    bits: matches!(local.signal, LineSignal::Bits(_)),
-                });
-            }
-            ahead = local.start > node.chip.now();
-            if local.start < node.chip.now() {
-                self.stats.late += 1;
-            }
-            start = node.clock.to_global(local.start);
-            // A telegram of the master to a slave (`Simulation::run_ahead`): where it ends
-            // (`run_ahead_end`: only on the simulation's clock). The master's next segment is
-            // its next telegram only when this one carries the filler after it (unsplit on
-            // its way here, `splits_filler`): then a run past it may go up to that telegram
-            // (`Simulation::master_horizon`).
-            past = (local.then_filler).then_some(local.bit_time);
-            let runs = self.run_ahead_ok && self.lookahead == Lookahead::Events;
-            ahead_to = run_ahead_end(runs, origin, j, node, &local);
-            if origin != 0
-                && j != 0
-                && (self.replay_to.is_some() || self.replay_copy)
-                && self.delivery == Delivery::Fast
-                && matches!(local.signal, LineSignal::Bits(_))
-                && !local.then_filler
-            {
-                // A replay (a repair, a power-on) gives a fresh receiver a slave's telegram
-                // without the filler after it, which comes as a slave's segment of its own and,
-                // on the fast path, to no slave (see `propagate`): that receiver sees no edge
-                // until the master's next telegram (FIBBR, 410B §4.1 2H.13), where the reference
-                // path's gets the filler. Counted like the collisions the fast path cannot follow.
-                self.stats.fast_path_collisions += 1;
+            let marks = GeneralMarks {
+                delivery: self.delivery,
+                runs: self.run_ahead_ok && self.lookahead == Lookahead::Events,
+                replay: self.replay_to.is_some() || self.replay_copy,
+            };
+            match take_general(
+                node,
+                &mut self.stats,
+                marks,
+                (j, origin, repeating),
+                &mut local,
+            ) {
+                Some(g) => (ahead, start, ahead_to, past) = g,
+                None => return,
             }
         }
         chip_calls::input(j, &mut node.chip, local);
@@ -2188,6 +2149,92 @@ fn out_of_order(
         stats.fast_path_collisions += 1;
     }
     local.from_instant(node.in_floor)
+}
+
+/// What [`Simulation::deliver`] reads of the simulation's settings on its general way
+/// (`take_general`).
+#[derive(Debug, Clone, Copy)]
+struct GeneralMarks {
+    delivery: Delivery,
+    /// Slaves run ahead after the master's telegrams (`Simulation::runs_ahead`).
+    runs: bool,
+    /// A replay runs (`replay_to` or `replay_copy`).
+    replay: bool,
+}
+
+/// `deliver`'s first part on its general way (not a swept delivery, `sim/swept.rs`): `local`
+/// (simulation time) taken to node `j`'s time, in order at its receiver (its floor raised),
+/// from `origin`, `repeating` at `j`. Whether it starts ahead of the chip's time, its start
+/// (simulation time), where the slave runs ahead to and `past` (`Simulation::run_ahead`);
+/// `None`: nothing to deliver. Out of line: a plain ring's deliveries are all swept.
+#[cold]
+#[inline(never)]
+fn take_general(
+    node: &mut Node,
+    stats: &mut SimStats,
+    marks: GeneralMarks,
+    (j, origin, repeating): (usize, usize, bool),
+    local: &mut LineSegment,
+) -> Option<(bool, Instant, Option<Instant>, Option<Duration>)> {
+    if node.clock.is_identity() {
+        local.start = node.clock.to_local(local.start);
+    } else {
+        local.start = node.map_in(local.start, local);
+    }
+    if local.start < node.in_floor {
+        let fast = marks.delivery == Delivery::Fast;
+        match out_of_order(stats, fast, node, local.clone()) {
+            Some(s) => *local = s,
+            None => return None,
+        }
+    }
+    node.in_floor = local.start;
+    // The fast path leaves out segments this receiver ignores, so the level it saw
+    // last may differ from the sender's: a telegram is taken from the level the
+    // receiver is at (NRZI decodes an inverted telegram the same), by the chip
+    // (`Chip::line_input_at_level`; the sender's hint has the inverted bits at hand,
+    // `FrameHint::coded`). Nothing below reads the bits or the level before that.
+    if matches!(local.signal, LineSignal::Filler) {
+        node.continue_filler(local);
+    }
+    // The exact path matches the repeater's copies with what it delivered; on the fast
+    // path the chip releases none (`Chip::set_forward_output`).
+    if repeating && marks.delivery == Delivery::Exact {
+        let lat = local.bit_time.saturating_mul(REPEATER_LATENCY_BITS);
+        node.expect.push_back(crate::node::ExpectedCopy {
+            at: local.start.saturating_add(lat),
+            origin,
+            replayed: false,
+            bits: matches!(local.signal, LineSignal::Bits(_)),
+        });
+    }
+    let ahead = local.start > node.chip.now();
+    if local.start < node.chip.now() {
+        stats.late += 1;
+    }
+    let start = node.clock.to_global(local.start);
+    // A telegram of the master to a slave (`Simulation::run_ahead`): where it ends
+    // (`run_ahead_end`: only on the simulation's clock). The master's next segment is
+    // its next telegram only when this one carries the filler after it (unsplit on
+    // its way here, `splits_filler`): then a run past it may go up to that telegram
+    // (`Simulation::master_horizon`).
+    let past = (local.then_filler).then_some(local.bit_time);
+    let ahead_to = run_ahead_end(marks.runs, origin, j, node, local);
+    if origin != 0
+        && j != 0
+        && marks.replay
+        && marks.delivery == Delivery::Fast
+        && matches!(local.signal, LineSignal::Bits(_))
+        && !local.then_filler
+    {
+        // A replay (a repair, a power-on) gives a fresh receiver a slave's telegram
+        // without the filler after it, which comes as a slave's segment of its own and,
+        // on the fast path, to no slave (see `propagate`): that receiver sees no edge
+        // until the master's next telegram (FIBBR, 410B §4.1 2H.13), where the reference
+        // path's gets the filler. Counted like the collisions the fast path cannot follow.
+        stats.fast_path_collisions += 1;
+    }
+    Some((ahead, start, ahead_to, past))
 }
 
 /// Where slave `j` runs ahead to after `local` from `origin` reached it

@@ -116,8 +116,9 @@ impl Simulation {
                     self.send_in_run(&mut run, j, &mut seg, delay)
                 };
                 if sent {
+                    // The master is on the simulation's clock (`deferred_may_go`).
                     if self.nodes.first().is_some_and(|m| m.powered) {
-                        self.deliver(0, seg, j, false);
+                        self.deliver_into_master(seg, j);
                     }
                     continue;
                 }

@@ -21,10 +21,16 @@
 //!   delay and repeater latency up to each slave are a table (`master_reach`), made again
 //!   only when a sweep's latency differs from the last one's.
 //!
+//! The master's deliveries of what comes back round such a ring (its own telegram at the
+//! sweep's end, the slaves' ATs sent on, `early_route`) share the same facts when the master
+//! is on the simulation's clock ([`Swept::INTO_MASTER`]): the instants as they are, no copy
+//! expected (the master repeats nothing, 410B §1), no run-ahead and no replay counted
+//! (`run_ahead_end` and the replay count are for slaves only).
+//!
 //! A segment that reaches a receiver out of order (cut at its floor, `out_of_order`) or that
-//! is not the master's bits (a filler continued from the bits before,
-//! `Node::continue_filler`) takes `deliver` itself. Debug builds compare every decision
-//! taken here with `deliver`'s own computation.
+//! is not bits (a filler continued from the bits before, `Node::continue_filler`) takes
+//! `deliver` itself. Debug builds compare every decision taken here with `deliver`'s own
+//! computation.
 
 #[cfg(debug_assertions)]
 use sercon_model::serial_port::REPEATER_LATENCY_BITS;
@@ -53,10 +59,17 @@ pub(super) struct Swept {
 }
 
 impl Swept {
-    /// `deliver`'s `past`: the segment's bit time when it carries its filler.
-    pub(super) fn past(&self) -> Option<Duration> {
-        self.past
-    }
+    /// What the master's deliveries of the segments coming back round a plain ring share
+    /// (the slaves' ATs sent on, `early_route`; its own telegram, `sweep_into_master`): the
+    /// master never runs ahead (`run_ahead_end`: slaves only), expects no copy (it repeats
+    /// nothing, 410B §1) and is no replay's fresh receiver (slaves only). Taken only for
+    /// the master on the simulation's clock (the caller's condition; debug builds check it).
+    pub(super) const INTO_MASTER: Swept = Swept {
+        run_len: None,
+        past: None,
+        limit: Instant::ZERO,
+        promised: false,
+    };
 }
 
 /// `deliver`'s first part for the master's bits `local` (simulation time), in order at
@@ -132,6 +145,13 @@ impl Simulation {
         self.deliver_in(j, local, 0, true, Some(sw));
     }
 
+    /// [`Simulation::deliver`] of `local` (simulation time), from `origin`, to the master on
+    /// the simulation's clock, with [`Swept::INTO_MASTER`]'s facts taken as found.
+    #[inline(always)]
+    pub(super) fn deliver_into_master(&mut self, local: LineSegment, origin: usize) {
+        self.deliver_in(0, local, origin, false, Some(&Swept::INTO_MASTER));
+    }
+
     /// [`Simulation::run_ahead`]'s limit and the master's promise at slave `j` in the sweep
     /// `sw`.
     #[inline(always)]
@@ -156,6 +176,14 @@ impl Simulation {
     #[cfg(debug_assertions)]
     pub(super) fn check_swept(&self, j: usize, local: &LineSegment, sw: &Swept) {
         let node = self.nodes.get(j);
+        if j == 0 {
+            // `Swept::INTO_MASTER`: the master on the simulation's clock, no run-ahead.
+            debug_assert!(
+                node.is_some_and(|n| n.clock.is_identity()) && sw.run_len.is_none(),
+                "a delivery into the master taken as swept off the simulation's clock"
+            );
+            return;
+        }
         debug_assert!(
             j != 0
                 && self.delivery == Delivery::Fast
