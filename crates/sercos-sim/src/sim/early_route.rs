@@ -106,14 +106,17 @@ impl Simulation {
             };
             let until = node.chip.now();
             super::chip_calls::take(j, &mut node.chip, until, out);
-            if let [seg] = out.as_slice()
+            // The AT is sent through where the take left it, and popped only to go on.
+            if let [seg] = out.as_mut_slice()
                 && matches!(seg.signal, LineSignal::Bits(_))
-                && let Some(mut seg) = out.pop()
             {
                 let sent = if j + 1 == n {
-                    self.send_last_in_run(&mut run, j, &mut seg, delay)
+                    self.send_last_in_run(&mut run, j, seg, delay)
                 } else {
-                    self.send_in_run(&mut run, j, &mut seg, delay)
+                    self.send_in_run(&mut run, j, seg, delay)
+                };
+                let Some(seg) = out.pop() else {
+                    continue;
                 };
                 if sent {
                     // The master is on the simulation's clock (`deferred_may_go`).
