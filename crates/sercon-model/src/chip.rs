@@ -74,6 +74,10 @@ pub struct Chip {
     /// [`Chip::advance_to`] takes a processor event right after the previous one when
     /// nothing lies between ([`Chip::set_chained_steps`]).
     pub(crate) chained_steps: bool,
+    /// Chained steps on and neither DMAREQR nor DMAREQT traced (410B §2 pins 38, 39): the
+    /// part of [`Chip::chains_to`]'s check that only the host changes, kept where it does
+    /// ([`Chip::set_chained_steps`], [`Chip::set_traced_pins`]; [`Chain::may_chain_in`]).
+    pub(crate) may_chain: bool,
 }
 
 /// What [`Chip::advance_to`]'s loop knows when it hands the telegram processor a step
@@ -92,17 +96,39 @@ pub(crate) struct Chain {
     pub(crate) flags: u64,
     /// The FIFO state when the loop's turn began (`DmaFifos::snapshot`).
     pub(crate) fifo: Option<crate::telegram_processor::FifoState>,
+    /// The flag bits that move a pin (`Flags::word`: of 4H only the bits an enabled output
+    /// carries, 410B §4.1 4H / 5H; the rest whole), worked out once a turn
+    /// ([`Chain::carried_by`]): the settings stay as they are over a turn's steps (decoded
+    /// again only at a bus write, 410B §4.1, or the watchdog's expiry, 816 §2.6.2, both
+    /// outside the processor's steps; debug-asserted at every check).
+    pub(crate) carried: u64,
 }
 
 impl Chain {
     /// No step may be joined to the next (a step outside the loop's chain).
     #[cfg(debug_assertions)]
-    pub(crate) const NONE: Chain = Chain {
-        limit: 0,
-        engine_tick: Due::NONE,
-        flags: 0,
-        fifo: None,
-    };
+    pub(crate) fn none(chip: &Chip) -> Chain {
+        Chain {
+            limit: 0,
+            engine_tick: Due::NONE,
+            flags: 0,
+            fifo: None,
+            carried: Chain::carried_by(chip),
+        }
+    }
+
+    /// [`Chain::carried`] for `chip` as it is.
+    #[inline]
+    pub(crate) fn carried_by(chip: &Chip) -> u64 {
+        // `Flags::word`: of 4H only the bits an enabled output carries, the rest whole.
+        !u64::from(!chip.engine.s.int_out_lo)
+    }
+
+    /// [`Chip::may_chain`] for `chip` as it is.
+    #[inline]
+    pub(crate) fn may_chain_in(chip: &Chip) -> bool {
+        chip.chained_steps && !chip.dma_pins_traced()
+    }
 
     /// Whether the loop would take the processor's event at tick `e`, found next right
     /// after the step it handed over, at once ([`Chip::chains_to`]) with no quiet cycle
@@ -111,8 +137,7 @@ impl Chain {
     /// when `e` is at or after it.
     #[inline]
     pub(crate) fn allows(&self, chip: &Chip, e: u64) -> bool {
-        chip.chains_to(e, self.limit, self.engine_tick, self.flags, self.fifo)
-            .is_some_and(|quiet| e < quiet)
+        chip.chains_to(e, self).is_some_and(|quiet| e < quiet)
     }
 }
 
@@ -155,6 +180,8 @@ impl Chip {
             layout_read: Default::default(),
             layout_epoch: std::cell::Cell::new(0),
             chained_steps: true,
+            // Chained steps on, no pin traced.
+            may_chain: true,
         }
     }
 
@@ -272,6 +299,15 @@ impl Chip {
                     (_, Some(first)) => {
                         let fifo = self.tp.fifo.snapshot();
                         let flags = self.engine.flags.word();
+                        // The turn's constants, the chain check's among them (worked out
+                        // once, not at every check).
+                        let chain = Chain {
+                            limit,
+                            engine_tick,
+                            flags,
+                            fifo,
+                            carried: Chain::carried_by(self),
+                        };
                         let mut k = first;
                         loop {
                             if k >= quiet && quiet != u64::MAX {
@@ -279,12 +315,6 @@ impl Chip {
                                 // that on).
                                 self.engine.end_quietly(quiet);
                             }
-                            let chain = Chain {
-                                limit,
-                                engine_tick,
-                                flags,
-                                fifo,
-                            };
                             #[cfg(debug_assertions)]
                             let general = (crate::telegram_processor::first_frame_tick(self)
                                 == Some(k))
@@ -312,10 +342,10 @@ impl Chip {
                             // The timing control's memo stands; a short cycle sync
                             // (`Engine::sync_cycle`, a slave's MST) put its new cycle's quiet
                             // end there.
-                            match tp_next.get().and_then(|e| {
-                                self.chains_to(e, limit, engine_tick, flags, fifo)
-                                    .map(|q| (e, q))
-                            }) {
+                            match tp_next
+                                .get()
+                                .and_then(|e| self.chains_to(e, &chain).map(|q| (e, q)))
+                            {
                                 Some((e, q)) => {
                                     quiet = q;
                                     k = e;
@@ -405,19 +435,25 @@ impl Chip {
     /// and RSCEND unchanged), the timing control's memo kept (no `sync_cycle` dropped it),
     /// the FIFOs as they were with no DMA pin traced. The loop's settling after the last step
     /// then emits what the steps changed, at that step's tick, as the turns one by one would.
+    /// The turn's state is `chain`'s (its constants worked out at the turn's start).
     /// Returns the memo's quiet cycle end (`u64::MAX` for none) when it may, `None`
     /// otherwise.
     #[inline]
-    pub(crate) fn chains_to(
-        &self,
-        e: u64,
-        limit: u64,
-        engine_tick: Due,
-        flags: u64,
-        fifo: Option<crate::telegram_processor::FifoState>,
-    ) -> Option<u64> {
-        // `Flags::word`: of 4H only the bits an enabled output carries, the rest whole.
-        let carried = !u64::from(!self.engine.s.int_out_lo);
+    pub(crate) fn chains_to(&self, e: u64, chain: &Chain) -> Option<u64> {
+        let Chain {
+            limit,
+            engine_tick,
+            flags,
+            fifo,
+            carried,
+        } = *chain;
+        // Debug builds: the turn's constant and the kept switch are what they stand for.
+        debug_assert_eq!(carried, Chain::carried_by(self), "stale Chain::carried");
+        debug_assert_eq!(
+            self.may_chain,
+            Chain::may_chain_in(self),
+            "stale Chip::may_chain"
+        );
         // A kept memo still has the turn's next tick (a short cycle sync keeps it).
         debug_assert!(
             self.engine
@@ -426,12 +462,11 @@ impl Chip {
             "the timing control's next tick moved under a chain"
         );
         let (_, quiet) = self.engine.next_memo?;
-        (self.chained_steps
+        (self.may_chain
             && e <= limit
             && engine_tick.after(e)
             && (self.engine.flags.word() ^ flags) & carried == 0
             && self.tp.fifo.unchanged_since(fifo)
-            && !self.dma_pins_traced()
             && self
                 .serial_next_loud_event()
                 .is_none_or(|a| a > self.clock.instant(e)))
@@ -444,7 +479,9 @@ impl Chip {
     /// and chained to (no quiet cycle end before it), the end's step.
     #[cfg(debug_assertions)]
     fn check_joined_frame(&self, mut general: Chip, start: u64, end: u64, chain: &Chain) {
-        let (last, _) = crate::telegram_processor::step(&mut general, start, &Chain::NONE);
+        // The settings are the same for both steps (no bus write between them).
+        let none = Chain::none(&general);
+        let (last, _) = crate::telegram_processor::step(&mut general, start, &none);
         debug_assert_eq!(last, start, "a step that may not join took two");
         debug_assert_eq!(
             crate::telegram_processor::next_tick(&general),
@@ -455,7 +492,7 @@ impl Chip {
             chain.allows(&general, end),
             "a joined frame's end is chained to"
         );
-        let (last, _) = crate::telegram_processor::step(&mut general, end, &Chain::NONE);
+        let (last, _) = crate::telegram_processor::step(&mut general, end, &none);
         debug_assert_eq!(last, end);
         debug_assert_eq!(
             format!("{general:?}"),
@@ -797,6 +834,7 @@ impl Chip {
     pub fn set_traced_pins(&mut self, pins: PinSet) {
         self.touched();
         self.traced = pins;
+        self.may_chain = Chain::may_chain_in(self);
         self.serial_pins_traced =
             pins.contains(Pin::Idle) || pins.contains(Pin::TxD) || pins.contains(Pin::Reactn);
         self.serial.set_pins_loud(self.serial_pins_traced);
@@ -809,6 +847,7 @@ impl Chip {
     /// comparing them; spec-notes "Chained processor steps").
     pub fn set_chained_steps(&mut self, on: bool) {
         self.chained_steps = on;
+        self.may_chain = Chain::may_chain_in(self);
     }
 
     /// Whether a quiet end of a communication cycle — one that leaves nothing but the cycle
@@ -1067,5 +1106,35 @@ pub(crate) fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant
     match (a, b) {
         (Some(a), Some(b)) => Some(a.min(b)),
         (a, b) => a.or(b),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // `Chip::may_chain` is kept where the host changes what it stands for: chained steps
+    // switched, DMAREQR / DMAREQT traced or not (410B §2 pins 38, 39). Fails when either
+    // setter leaves it as it was.
+    #[test]
+    fn may_chain_follows_the_switch_and_the_traced_dma_pins() {
+        let mut chip = Chip::new(ChipConfig::sercon410b());
+        assert!(chip.may_chain);
+        for on in [true, false, true] {
+            chip.set_chained_steps(on);
+            assert_eq!(chip.may_chain, Chain::may_chain_in(&chip));
+            assert_eq!(chip.may_chain, on);
+            for pins in [
+                PinSet::of(&[Pin::DmaReqR]),
+                PinSet::of(&[Pin::Int0]),
+                PinSet::of(&[Pin::DmaReqT]),
+                PinSet::EMPTY,
+            ] {
+                chip.set_traced_pins(pins);
+                assert_eq!(chip.may_chain, Chain::may_chain_in(&chip));
+                let dma = pins.contains(Pin::DmaReqR) || pins.contains(Pin::DmaReqT);
+                assert_eq!(chip.may_chain, on && !dma);
+            }
+        }
     }
 }
