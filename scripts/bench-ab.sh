@@ -1,12 +1,22 @@
 #!/usr/bin/env bash
 # Compares `sercon` builds side by side (docs/performance.md: this VM's speed changes within
 # seconds, so only alternating, repeated runs say anything).
-# Usage: scripts/bench-ab.sh SCENARIO SIM_MS ROUNDS BINARY...
+# Usage: scripts/bench-ab.sh [--cpu-time] SCENARIO SIM_MS ROUNDS BINARY...
 # Runs `BINARY bench --json --scenario SCENARIO --sim-ms SIM_MS` for each binary in turn,
 # ROUNDS times, and prints each binary's best and median real-time factor.
+# --cpu-time: measures each run's CPU time instead (`perf stat -e task-clock`, the whole
+# process: set-up and run) and prints the least and median; over 10 simulated seconds and
+# 20-40 rounds in both orders it separates 1 % differences where wall figures on a shared VM
+# do not (docs/performance.md, sessions 32 and 33).
 set -euo pipefail
+cpu=0
+if [ "${1:-}" = --cpu-time ]; then
+  cpu=1
+  shift
+  command -v perf >/dev/null || { echo "perf is needed (apt-get install -y linux-perf)" >&2; exit 2; }
+fi
 if [ $# -lt 4 ]; then
-  echo "usage: $0 SCENARIO SIM_MS ROUNDS BINARY..." >&2
+  echo "usage: $0 [--cpu-time] SCENARIO SIM_MS ROUNDS BINARY..." >&2
   exit 2
 fi
 sc=$1 ms=$2 rounds=$3
@@ -15,17 +25,28 @@ results=$(mktemp)
 trap 'rm -f "$results"' EXIT
 for _ in $(seq "$rounds"); do
   for b in "$@"; do
-    rtf=$("$b" bench --json --scenario "$sc" --sim-ms "$ms" |
-      python3 -c 'import sys, json; print(json.loads(sys.stdin.readline())["rtf"])')
-    echo "$b $rtf" >>"$results"
+    if [ "$cpu" = 1 ]; then
+      v=$(perf stat -x, -e task-clock "$b" bench --json --scenario "$sc" --sim-ms "$ms" 2>&1 >/dev/null |
+        awk -F, '/task-clock/ {print $1}')
+      [ -n "$v" ] || { echo "no task-clock figure from $b (is perf allowed here?)" >&2; exit 1; }
+    else
+      v=$("$b" bench --json --scenario "$sc" --sim-ms "$ms" |
+        python3 -c 'import sys, json; print(json.loads(sys.stdin.readline())["rtf"])')
+    fi
+    echo "$b $v" >>"$results"
   done
 done
-python3 - "$results" "$sc" <<'PY'
+python3 - "$results" "$sc" "$ms" "$cpu" <<'PY'
 import statistics, sys
 runs = {}
 for line in open(sys.argv[1]):
     b, v = line.rsplit(" ", 1)
     runs.setdefault(b, []).append(float(v))
+sc, ms, cpu = sys.argv[2], float(sys.argv[3]), sys.argv[4] == "1"
 for b, v in runs.items():
-    print(f"{sys.argv[2]} {b}: best {max(v):.1f}x median {statistics.median(v):.1f}x ({len(v)} runs)")
+    if cpu:
+        lo, med = min(v), statistics.median(v)
+        print(f"{sc} {b}: least {lo:.2f} ms median {med:.2f} ms CPU (≈ {ms / lo:.1f}x / {ms / med:.1f}x, {len(v)} runs)")
+    else:
+        print(f"{sc} {b}: best {max(v):.1f}x median {statistics.median(v):.1f}x ({len(v)} runs)")
 PY
