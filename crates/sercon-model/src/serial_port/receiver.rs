@@ -10,7 +10,7 @@ use sercos_wire::time::{Duration, Instant};
 use super::line_events::{Change, LineEvents};
 use super::port_config::PortConfig;
 use super::segment::Shared;
-use super::segment::{FrameHint, LineSegment, LineSignal};
+use super::segment::{FrameHint, LineSegment, LineSignal, drop_in_line};
 use super::{FIBBR_BIT_TIMES, HeardFrame};
 use crate::reciprocal::Reciprocal;
 use crate::serial_settings::RxdCoding;
@@ -217,7 +217,7 @@ impl Receiver {
     /// Takes the last segment to the line's level when it was kept from the other
     /// ([`Receiver::last_inverted`]): the levels read are the same.
     #[inline]
-    pub(crate) fn settle_last(&mut self) {
+    fn settle_last(&mut self) {
         if self.last_inverted {
             self.last_inverted = false;
             if let Some(last) = self.last.as_mut() {
@@ -543,11 +543,7 @@ impl Receiver {
         let level = level ^ inverted;
         // The segment kept before is dropped by its parts (its drop glue went out of line).
         if let Some(old) = self.last.replace(seg) {
-            let LineSegment { signal, hint, .. } = old;
-            if let LineSignal::Bits(bits) = signal {
-                drop(bits);
-            }
-            drop(hint);
+            drop_in_line(old);
         }
         self.last_inverted = inverted;
         self.level_memo.set(None);

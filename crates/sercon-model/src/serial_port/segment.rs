@@ -398,6 +398,26 @@ fn invert_bits(bits: &BitVec) -> BitVec {
     bits.inverted()
 }
 
+/// Drops `seg` here, not through the drop glue's call (a ring slave's take drops the copy
+/// it resumed last cycle and the line's last segment on every release; a receiver the
+/// segment it kept before).
+#[inline(always)]
+pub(crate) fn drop_in_line(seg: LineSegment) {
+    let LineSegment { signal, hint, .. } = seg;
+    drop_parts_in_line(signal, hint);
+}
+
+/// [`drop_in_line`] of a segment's shared parts.
+#[inline(always)]
+pub(crate) fn drop_parts_in_line(signal: LineSignal, hint: Option<Shared<FrameHint>>) {
+    if let LineSignal::Bits(bits) = signal {
+        drop(bits);
+    }
+    if let Some(hint) = hint {
+        drop(hint);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

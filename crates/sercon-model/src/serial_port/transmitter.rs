@@ -10,7 +10,9 @@
 use sercos_wire::time::{Duration, Instant};
 
 use super::coded_frames::{Coded, CodedFrames, Known};
-use super::segment::{FrameHint, LineSegment, LineSignal, Shared};
+use super::segment::{
+    FrameHint, LineSegment, LineSignal, Shared, drop_in_line, drop_parts_in_line,
+};
 use crate::chip::earliest;
 use crate::first_queue::FirstQueue;
 
@@ -1013,14 +1015,6 @@ fn push_growing(out: &mut Vec<LineSegment>, seg: LineSegment) {
     out.push(seg);
 }
 
-/// Drops `seg` here, not through the drop glue's call (a ring slave's take drops the copy
-/// it resumed last cycle and the line's last segment on every release).
-#[inline(always)]
-fn drop_in_line(seg: LineSegment) {
-    let LineSegment { signal, hint, .. } = seg;
-    drop_parts_in_line(signal, hint);
-}
-
 /// Puts `seg` in `slot`, written over the segment there field by field, and returns that
 /// segment's shared parts (signal and hint) to be dropped: moved whole, the two segments
 /// went through the stack.
@@ -1052,17 +1046,6 @@ fn write_over(
         std::mem::replace(&mut l.signal, signal),
         std::mem::replace(&mut l.hint, hint),
     ))
-}
-
-/// [`drop_in_line`] of a segment's shared parts.
-#[inline(always)]
-fn drop_parts_in_line(signal: LineSignal, hint: Option<Shared<FrameHint>>) {
-    if let LineSignal::Bits(bits) = signal {
-        drop(bits);
-    }
-    if let Some(hint) = hint {
-        drop(hint);
-    }
 }
 
 /// The inversion a carried copy is followed with, by the line's level at its start (index 0:
