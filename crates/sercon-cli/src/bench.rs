@@ -32,6 +32,12 @@ pub struct BenchArgs {
     /// on a shared or virtual machine varies by tens of percent.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
     repeat: u32,
+    /// Wall milliseconds each static-ring run is warmed up for before it is measured (whole
+    /// cycles, not counted; `"warm_up_cycles"` in JSON): a fresh simulation's first cycles
+    /// run slower (memory touched for the first time, cold caches). 0: only the one
+    /// warm-up cycle.
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(0..=60_000))]
+    warm_up_ms: u64,
 }
 
 /// The fastest of `runs` (by wall time) and the median real-time factor; `None` for no runs.
@@ -142,12 +148,16 @@ pub fn run(args: BenchArgs) -> Result<()> {
     if !args.json && !say!("{BUILD} build") {
         return Ok(());
     }
+    let warm_up = std::time::Duration::from_millis(args.warm_up_ms);
     for s in ring {
         let cycle_us = u64::from(s.ring.cycle_us).max(1);
         let cycles = (args.sim_ms.saturating_mul(1000) / cycle_us).max(1);
         let mut runs = Vec::new();
         for _ in 0..args.repeat {
-            runs.push(scenario::run(&s, cycles).with_context(|| format!("scenario {}", s.name))?);
+            runs.push(
+                scenario::run(&s, cycles, warm_up)
+                    .with_context(|| format!("scenario {}", s.name))?,
+            );
         }
         let Some((r, median)) = best_of(runs, |r| r.wall_s, |r| r.rtf) else {
             continue;

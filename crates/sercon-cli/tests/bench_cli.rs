@@ -80,6 +80,27 @@ fn repeat_reports_the_fastest_run_and_the_median() {
 }
 
 #[test]
+fn a_run_is_warmed_up_unless_asked_not_to() {
+    // The default: 20 wall ms of whole cycles before the measurement, at least one.
+    let v = one_json(&ring_n8(&["--json"]));
+    assert!(v["warm_up_cycles"].as_u64().is_some_and(|c| c >= 1), "{v}");
+    let v = one_json(&ring_n8(&["--json", "--warm-up-ms", "0"]));
+    assert_eq!(v["warm_up_cycles"], 0);
+    // The measured simulated time is the same either way.
+    assert!((v["sim_s"].as_f64().unwrap_or(0.0) - 0.008).abs() < 1e-9);
+    for bad in ["-1", "x", "60001"] {
+        let arg = format!("--warm-up-ms={bad}");
+        let out = sercon(&["bench", "--scenario", "ring-n8", &arg]);
+        assert!(!out.status.success(), "{bad}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("--warm-up-ms"),
+            "{bad}"
+        );
+        assert!(out.stdout.is_empty(), "{bad}");
+    }
+}
+
+#[test]
 fn a_repeat_of_zero_is_refused_with_a_message() {
     let out = sercon(&["bench", "--scenario", "ring-n8", "--repeat", "0"]);
     assert!(!out.status.success());

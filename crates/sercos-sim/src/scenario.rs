@@ -47,13 +47,15 @@ pub struct BenchResult {
     pub events_per_cycle: f64,
     /// Segments handed to receivers per cycle.
     pub deliveries_per_cycle: f64,
+    /// Cycles run, unmeasured, to warm the run up before it was measured ([`run`]).
+    pub warm_up_cycles: u64,
 }
 
 impl BenchResult {
     /// One JSON object on one line.
     pub fn to_json(&self) -> String {
         format!(
-            "{{\"scenario\":\"{}\",\"slaves\":{},\"bit_rate_mbit\":{},\"cycle_us\":{},\"phase\":{},\"sim_s\":{:.6},\"wall_s\":{:.6},\"rtf\":{:.3},\"wall_us_per_cycle\":{:.3},\"bytes_per_cycle\":{},\"events_per_cycle\":{:.1},\"deliveries_per_cycle\":{:.1}}}",
+            "{{\"scenario\":\"{}\",\"slaves\":{},\"bit_rate_mbit\":{},\"cycle_us\":{},\"phase\":{},\"sim_s\":{:.6},\"wall_s\":{:.6},\"rtf\":{:.3},\"wall_us_per_cycle\":{:.3},\"bytes_per_cycle\":{},\"events_per_cycle\":{:.1},\"deliveries_per_cycle\":{:.1},\"warm_up_cycles\":{}}}",
             self.scenario,
             self.slaves,
             self.bit_rate_mbit,
@@ -65,7 +67,8 @@ impl BenchResult {
             self.wall_us_per_cycle,
             self.bytes_per_cycle,
             self.events_per_cycle,
-            self.deliveries_per_cycle
+            self.deliveries_per_cycle,
+            self.warm_up_cycles
         )
     }
 }
@@ -116,10 +119,21 @@ pub fn prepare(s: &Scenario) -> Result<Simulation, SimError> {
     Ok(sim)
 }
 
-/// Runs `s` for `cycles` cycles after the warm-up and measures it.
-pub fn run(s: &Scenario, cycles: u64) -> Result<BenchResult, SimError> {
+/// Runs `s` for `cycles` cycles and measures them, after [`prepare`]'s warm-up cycle and
+/// whole cycles more, unmeasured, until `warm_up` of wall time has passed (none for zero).
+///
+/// A fresh simulation's first cycles run slower than its steady ones (memory touched for the
+/// first time, cold caches and branch predictors): on ring-8 a 2 ms measurement straight
+/// after the set-up came out 10–15 % low about one time in six, none with 5 ms of warm-up
+/// or more (docs/performance.md, "Session 34"). Criterion's benches warm up the same way.
+pub fn run(
+    s: &Scenario,
+    cycles: u64,
+    warm_up: std::time::Duration,
+) -> Result<BenchResult, SimError> {
     let mut sim = prepare(s)?;
     let cycle = Duration::from_micros(u64::from(s.ring.cycle_us));
+    let warm_up_cycles = warm(&mut sim, cycle, warm_up)?;
     let start = sim.now();
     let end = start + cycle.saturating_mul(cycles);
     let before = sim.stats();
@@ -146,5 +160,51 @@ pub fn run(s: &Scenario, cycles: u64) -> Result<BenchResult, SimError> {
         bytes_per_cycle: bytes_per_cycle(&s.ring),
         events_per_cycle: per(after.events, before.events),
         deliveries_per_cycle: per(after.deliveries, before.deliveries),
+        warm_up_cycles,
     })
+}
+
+/// Runs `sim` a `cycle` at a time until `warm_up` of wall time has passed; returns the
+/// cycles run.
+fn warm(
+    sim: &mut Simulation,
+    cycle: Duration,
+    warm_up: std::time::Duration,
+) -> Result<u64, SimError> {
+    let wall = WallInstant::now();
+    let mut cycles = 0u64;
+    while wall.elapsed() < warm_up {
+        let next = sim.now() + cycle;
+        sim.run_until(next)?;
+        cycles += 1;
+    }
+    Ok(cycles)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The warm-up runs whole cycles that are not measured: the measured simulated time
+    /// is the cycles asked for, with or without it.
+    #[test]
+    fn the_warm_up_is_not_measured() {
+        let s = ring_n(8);
+        let cycle_s = f64::from(s.ring.cycle_us) * 1e-6;
+        let Ok(cold) = run(&s, 2, std::time::Duration::ZERO) else {
+            panic!("the ring runs");
+        };
+        assert_eq!(cold.warm_up_cycles, 0);
+        let Ok(warm) = run(&s, 2, std::time::Duration::from_millis(1)) else {
+            panic!("the ring runs");
+        };
+        assert!(warm.warm_up_cycles >= 1, "{}", warm.warm_up_cycles);
+        for r in [&cold, &warm] {
+            assert!((r.sim_s - 2.0 * cycle_s).abs() < 1e-12, "{}", r.sim_s);
+        }
+        assert!(
+            warm.to_json()
+                .contains(&format!("\"warm_up_cycles\":{}}}", warm.warm_up_cycles))
+        );
+    }
 }
