@@ -189,14 +189,11 @@ impl Simulation {
         node.resume = if seg.then_filler { None } else { Some(end) };
         // `send_through`.
         self.stats.fast_path_collisions += node.sent_through(seg.start, before, end, held);
-        run.pass = Some(super::plain_pass::PlainPass {
-            entry: j,
-            start_in: seg.start,
-            len,
-            lat,
-            start_out: out,
-            run: self.nodes.len() - j - 1,
-        });
+        // The floors behind `j` moved: a pass kept from before stands no more. This one is
+        // not kept (`plain_pass.rs`): the ATs after it in the pass, the last slave's at
+        // least, move floors of its run before any filler of `j`'s could follow it
+        // (`send_last_in_run`, `send_on_plain`).
+        self.plain_pass = None;
         seg.start = out.saturating_add(delay);
         seg.distorted = false;
         true
@@ -237,14 +234,10 @@ impl Simulation {
         true
     }
 
-    /// Hands the floors' run of `run` back (`OutFloors::close_through`) with the last pass
-    /// made in it kept (`plain_pass`, as `send_through` keeps it).
+    /// Hands the floors' run of `run` back (`OutFloors::close_through`).
     fn close_run(&mut self, run: &mut Run) {
         if let Some(t) = run.through.take() {
             self.out_floors.close_through(t);
-        }
-        if let Some(p) = run.pass.take() {
-            self.plain_pass = Some(p);
         }
     }
 
@@ -538,6 +531,4 @@ struct Run {
     tried: bool,
     /// The floors' run, while open.
     through: Option<super::out_floors::Through>,
-    /// The last pass made in it.
-    pass: Option<super::plain_pass::PlainPass>,
 }
