@@ -8,6 +8,8 @@
 # process: set-up and run) and prints the least and median; over 10 simulated seconds and
 # 20-40 rounds in both orders it separates 1 % differences where wall figures on a shared VM
 # do not (docs/performance.md, sessions 32 and 33).
+# Every binary runs without `sercon bench`'s warm-up (`--warm-up-ms=0` where it has the
+# option), so that builds before and after it do the same work.
 set -euo pipefail
 cpu=0
 if [ "${1:-}" = --cpu-time ]; then
@@ -23,14 +25,24 @@ sc=$1 ms=$2 rounds=$3
 shift 3
 results=$(mktemp)
 trap 'rm -f "$results"' EXIT
+# The same work from every binary: builds with `--warm-up-ms` (session 34 on) run without the
+# extra warm-up, as the builds before it do (its wall time would count in CPU time, and its
+# warm runs are not what an older build measures).
+declare -A warm
+for b in "$@"; do
+  warm[$b]=""
+  if "$b" bench --help 2>/dev/null | grep -q -- --warm-up-ms; then
+    warm[$b]="--warm-up-ms=0"
+  fi
+done
 for _ in $(seq "$rounds"); do
   for b in "$@"; do
     if [ "$cpu" = 1 ]; then
-      v=$(perf stat -x, -e task-clock "$b" bench --json --scenario "$sc" --sim-ms "$ms" 2>&1 >/dev/null |
+      v=$(perf stat -x, -e task-clock "$b" bench --json --scenario "$sc" --sim-ms "$ms" ${warm[$b]} 2>&1 >/dev/null |
         awk -F, '/task-clock/ {print $1}')
       [ -n "$v" ] || { echo "no task-clock figure from $b (is perf allowed here?)" >&2; exit 1; }
     else
-      v=$("$b" bench --json --scenario "$sc" --sim-ms "$ms" |
+      v=$("$b" bench --json --scenario "$sc" --sim-ms "$ms" ${warm[$b]} |
         python3 -c 'import sys, json; print(json.loads(sys.stdin.readline())["rtf"])')
     fi
     echo "$b $v" >>"$results"
