@@ -34,18 +34,17 @@ pub struct Chip {
     pub(crate) tp: crate::telegram_processor::TelegramProcessor,
     /// The serial port: transmitter, receiver, repeater (410B §1, §2).
     pub(crate) serial: crate::serial_port::SerialPort,
-    /// The instant of the next MCLK tick at which the timing control, the watchdog or the
-    /// telegram processor has something to do, as [`Chip::advance_to`] left it (`Some`);
-    /// `None` once anything from outside (a bus access, a pin, a DMA cycle) may have changed
-    /// that. A line input keeps it up to date (it can only add frames). The serial port's
-    /// next change is not part of it: it is read from the port's queues, which every line
-    /// input moves. Lets an advance with nothing due, and [`Chip::next_event_at`], skip
-    /// recomputing every component's next tick.
-    pub(crate) next_core: Option<Option<Instant>>,
-    /// The telegram processor's next tick, kept like `next_core` (`Some` exactly when it
-    /// is): the first turn of [`Chip::advance_to`]'s loop, and every turn after a step of
-    /// the timing control that started no cycle, reuse it instead of walking the
-    /// processor's state again.
+    /// The telegram processor's next tick, as [`Chip::advance_to`] left it (`Some`); `None`
+    /// once anything from outside (a bus access, a pin, a DMA cycle) may have changed that.
+    /// A line input keeps it up to date (it can only add frames). The first turn of
+    /// [`Chip::advance_to`]'s loop, and every turn after a step of the timing control that
+    /// started no cycle, reuse it instead of walking the processor's state again. With the
+    /// timing control's next tick (its memo) it is the core's next tick
+    /// ([`Chip::kept_next_core`]), which lets an advance with nothing due, and
+    /// [`Chip::next_event_at`], skip recomputing every component's next tick; that one is
+    /// not kept of its own (it was written at every advance and frame and read at few).
+    /// The serial port's next change is not part of it: it is read from the port's queues,
+    /// which every line input moves.
     pub(crate) tp_next: Option<Due>,
     /// Last traced levels of DMAREQR / DMAREQT in static mode, and the tick of the last
     /// traced pulse in pulsed mode (410B §2 pins 38, 39; §4.1 1H.14 DMAMODE).
@@ -172,7 +171,6 @@ impl Chip {
             cyc_clk: false,
             tp: Default::default(),
             serial,
-            next_core: None,
             tp_next: None,
             dma_trace: [(false, None); 2],
             out_bound: std::cell::Cell::new(None),
@@ -208,26 +206,27 @@ impl Chip {
             return;
         }
         if !self.in_reset {
-            if let Some(core) = self.next_core {
-                debug_assert_eq!(core, self.compute_next_core(), "stale next_core");
-                // Nothing due up to `t`: neither the core's next instant nor the serial port's
-                // (the port asked only when the core has nothing due).
-                let quiet_up_to_t = core.is_none_or(|c| c > t)
-                    && self.serial_next_loud_event().is_none_or(|a| a > t);
+            let limit = self.clock.tick_at_or_before(t);
+            if let Some(tp) = self.tp_next {
+                // The core's next tick (`Chip::kept_next_core`).
+                let (engine_next, quiet) = self.engine.next_ticks_memo();
+                let core = engine_next.min(tp);
                 debug_assert_eq!(
-                    quiet_up_to_t,
-                    earliest(core, self.serial_next_loud_event()).is_none_or(|n| n > t)
+                    core.get().map(|k| self.clock.instant(k)),
+                    self.compute_next_core(),
+                    "stale tp_next"
                 );
+                // Nothing due up to `t`: neither the core's next tick by `limit` (as the loop
+                // below finds it) nor the serial port's next change (the port asked only when
+                // the core has nothing due).
+                let quiet_up_to_t =
+                    core.after(limit) && self.serial_next_loud_event().is_none_or(|a| a > t);
                 if quiet_up_to_t {
                     // Nothing due up to `t` but levels of untraced serial-port pins and a
                     // quiet cycle end.
                     self.serial_apply_pin_levels(t);
                     self.now = t;
-                    let quiet = match self.engine.next_memo {
-                        Some((_, quiet)) => quiet,
-                        None => self.engine.next_ticks_memo().1,
-                    };
-                    if quiet != u64::MAX && self.clock.instant(quiet) <= t {
+                    if quiet <= limit && quiet != u64::MAX {
                         self.engine.end_quietly(quiet);
                     }
                     self.apply_quiet_events();
@@ -236,7 +235,6 @@ impl Chip {
             }
             // Something is processed: the bound is found afresh.
             self.out_bound.set(None);
-            let limit = self.clock.tick_at_or_before(t);
             // The next ticks as `Due`s (`u64::MAX` for none): minima and "due by `limit`"
             // without branches.
             let mut tp_next = match self.tp_next.take() {
@@ -398,13 +396,21 @@ impl Chip {
             if quiet <= limit && quiet != u64::MAX {
                 self.engine.end_quietly(quiet);
             }
-            let tick = next_ticks.0.min(next_ticks.1);
             // What is left up to `t` only sets levels of untraced pins (IDLE, REACTN).
             self.serial_apply_pin_levels(t);
-            let core = tick.get().map(|k| self.clock.instant(k));
-            debug_assert_eq!(core, self.compute_next_core());
-            self.next_core = Some(core);
             self.tp_next = Some(next_ticks.1);
+            // The timing control's memo holds its next tick (`Chip::kept_next_core`).
+            debug_assert!(
+                self.engine
+                    .next_memo
+                    .is_some_and(|(next, _)| next == next_ticks.0),
+                "the timing control's memo after an advance"
+            );
+            debug_assert_eq!(
+                self.kept_next_core(),
+                Some(self.compute_next_core()),
+                "the core's next instant after an advance"
+            );
             self.now = t;
             // The quiet events due by `limit` (spec-notes "Events nobody sees at once"), as
             // `Chip::apply_quiet_events` applies them but without asking `has_quiet_events`
@@ -548,11 +554,26 @@ impl Chip {
     /// The next instant at which the engine, the telegram processor or the serial port
     /// has something to do (what [`Chip::advance_to`] would process).
     pub(crate) fn next_internal(&self) -> Option<Instant> {
-        let core = match self.next_core {
-            Some(cached) => cached,
+        let core = match self.kept_next_core() {
+            Some(kept) => kept,
             None => self.compute_next_core(),
         };
         earliest(core, self.serial_next_loud_event())
+    }
+
+    /// The instant of the next MCLK tick at which the timing control, the watchdog or the
+    /// telegram processor has something to do, from what is kept (`Some`): the processor's
+    /// next tick (`tp_next`) and the timing control's (its memo, or found afresh); `None`
+    /// when the processor's is not kept. Debug builds compare it with the computation.
+    fn kept_next_core(&self) -> Option<Option<Instant>> {
+        let tp = self.tp_next?;
+        let engine = match self.engine.next_memo {
+            Some((next, _)) => next,
+            None => Due::from_option(self.engine.next_tick()),
+        };
+        let core = engine.min(tp).get().map(|k| self.clock.instant(k));
+        debug_assert_eq!(core, self.compute_next_core(), "stale tp_next");
+        Some(core)
     }
 
     /// The telegram processor's queue of received frames or its frame in progress changed
@@ -560,14 +581,12 @@ impl Chip {
     /// the next core instant and the output bound are found afresh.
     pub(crate) fn rx_queue_changed(&mut self) {
         self.tp_next = None;
-        self.next_core = None;
         self.out_bound.set(None);
     }
 
     /// Something from outside changed the state: the cached next instant of the engine and
     /// the telegram processor is recomputed at the next advance.
     pub(crate) fn touched(&mut self) {
-        self.next_core = None;
         self.tp_next = None;
         self.engine.next_memo = None;
         self.tp.tx_ahead.set(None);

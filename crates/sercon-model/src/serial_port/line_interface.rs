@@ -53,13 +53,12 @@ impl Chip {
         // `now` (how a conservative simulation hands segments over), so its status changes
         // do too, and so does every frame it completes (checked below: a frame may have
         // begun in an earlier segment).
-        let quiet = seg.start > now && self.next_core.is_some();
+        let quiet = seg.start > now && self.tp_next.is_some();
         // The telegram processor takes every frame the receiver saw (contract with tp), as
         // the receiver decodes it (no list in between: a frame is moved once).
         let at = seg.start;
         let mut sink = ToProcessor {
             clock: &self.clock,
-            next_core: &mut self.next_core,
             tp_next: &mut self.tp_next,
             tp: &mut self.tp,
             out_bound: &self.out_bound,
@@ -452,7 +451,6 @@ impl Chip {
 /// rather than called.
 struct ToProcessor<'a> {
     clock: &'a crate::mclk::MclkClock,
-    next_core: &'a mut Option<Option<Instant>>,
     tp_next: &'a mut Option<crate::mclk::Due>,
     tp: &'a mut crate::telegram_processor::TelegramProcessor,
     out_bound: &'a std::cell::Cell<Option<Option<u64>>>,
@@ -498,16 +496,10 @@ impl FrameSink for ToProcessor<'_> {
         // While a frame is in progress the next starts at its end at the earliest
         // (`telegram_processor::first_frame_tick`), which the next ticks hold already.
         if self.tp.rx_now.is_none() {
-            if let Some(core) = self.next_core.as_mut() {
-                self.quiet &= at > self.now;
-                // The earlier of the kept instant and the frame's (only the inner one written).
-                match core {
-                    Some(c) if *c <= at => {}
-                    _ => *core = Some(at),
-                }
-            }
             if let Some(next) = self.tp_next.as_mut() {
-                // The processor's next tick is the earlier of its own and the first frame's.
+                self.quiet &= at > self.now;
+                // The processor's next tick is the earlier of its own and the first frame's
+                // (and so is the core's, `Chip::kept_next_core`).
                 *next = (*next).min(crate::mclk::Due::at(tick));
             }
         }
