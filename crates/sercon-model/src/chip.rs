@@ -34,8 +34,9 @@ pub struct Chip {
     pub(crate) tp: crate::telegram_processor::TelegramProcessor,
     /// The serial port: transmitter, receiver, repeater (410B §1, §2).
     pub(crate) serial: crate::serial_port::SerialPort,
-    /// The telegram processor's next tick, as [`Chip::advance_to`] left it (`Some`); `None`
-    /// once anything from outside (a bus access, a pin, a DMA cycle) may have changed that.
+    /// The telegram processor's next tick, as [`Chip::advance_to`] left it, while
+    /// `tp_next_known`; not to be read once anything from outside (a bus access, a pin, a
+    /// DMA cycle) may have changed that.
     /// A line input keeps it up to date (it can only add frames). The first turn of
     /// [`Chip::advance_to`]'s loop, and every turn after a step of the timing control that
     /// started no cycle, reuse it instead of walking the processor's state again. With the
@@ -45,7 +46,10 @@ pub struct Chip {
     /// not kept of its own (it was written at every advance and frame and read at few).
     /// The serial port's next change is not part of it: it is read from the port's queues,
     /// which every line input moves.
-    pub(crate) tp_next: Option<Due>,
+    pub(crate) tp_next: Due,
+    /// Whether `tp_next` holds (a flag beside the word rather than an `Option` around it: a
+    /// line input moves the word without asking, session 34's helper `optinstant`).
+    pub(crate) tp_next_known: bool,
     /// Last traced levels of DMAREQR / DMAREQT in static mode, and the tick of the last
     /// traced pulse in pulsed mode (410B §2 pins 38, 39; §4.1 1H.14 DMAMODE).
     pub(crate) dma_trace: [(bool, Option<u64>); 2],
@@ -171,7 +175,8 @@ impl Chip {
             cyc_clk: false,
             tp: Default::default(),
             serial,
-            tp_next: None,
+            tp_next: Due::NONE,
+            tp_next_known: false,
             dma_trace: [(false, None); 2],
             out_bound: std::cell::Cell::new(None),
             layout: std::cell::Cell::new(None),
@@ -207,10 +212,10 @@ impl Chip {
         }
         if !self.in_reset {
             let limit = self.clock.tick_at_or_before(t);
-            if let Some(tp) = self.tp_next {
+            if self.tp_next_known {
                 // The core's next tick (`Chip::kept_next_core`).
                 let (engine_next, quiet) = self.engine.next_ticks_memo();
-                let core = engine_next.min(tp);
+                let core = engine_next.min(self.tp_next);
                 debug_assert_eq!(
                     core.get().map(|k| self.clock.instant(k)),
                     self.compute_next_core(),
@@ -237,9 +242,10 @@ impl Chip {
             self.out_bound.set(None);
             // The next ticks as `Due`s (`u64::MAX` for none): minima and "due by `limit`"
             // without branches.
-            let mut tp_next = match self.tp_next.take() {
-                Some(memo) => memo,
-                None => crate::telegram_processor::next_due(self),
+            let mut tp_next = if std::mem::take(&mut self.tp_next_known) {
+                self.tp_next
+            } else {
+                crate::telegram_processor::next_due(self)
             };
             let mut quiet;
             let next_ticks = loop {
@@ -398,7 +404,8 @@ impl Chip {
             }
             // What is left up to `t` only sets levels of untraced pins (IDLE, REACTN).
             self.serial_apply_pin_levels(t);
-            self.tp_next = Some(next_ticks.1);
+            self.tp_next = next_ticks.1;
+            self.tp_next_known = true;
             // The timing control's memo holds its next tick (`Chip::kept_next_core`).
             debug_assert!(
                 self.engine
@@ -566,7 +573,10 @@ impl Chip {
     /// next tick (`tp_next`) and the timing control's (its memo, or found afresh); `None`
     /// when the processor's is not kept. Debug builds compare it with the computation.
     fn kept_next_core(&self) -> Option<Option<Instant>> {
-        let tp = self.tp_next?;
+        if !self.tp_next_known {
+            return None;
+        }
+        let tp = self.tp_next;
         let engine = match self.engine.next_memo {
             Some((next, _)) => next,
             None => Due::from_option(self.engine.next_tick()),
@@ -580,14 +590,14 @@ impl Chip {
     /// outside its own steps (a frame taken back, or taken before its end): its next tick,
     /// the next core instant and the output bound are found afresh.
     pub(crate) fn rx_queue_changed(&mut self) {
-        self.tp_next = None;
+        self.tp_next_known = false;
         self.out_bound.set(None);
     }
 
     /// Something from outside changed the state: the cached next instant of the engine and
     /// the telegram processor is recomputed at the next advance.
     pub(crate) fn touched(&mut self) {
-        self.tp_next = None;
+        self.tp_next_known = false;
         self.engine.next_memo = None;
         self.tp.tx_ahead.set(None);
         self.tp.block_ahead.set(None);

@@ -53,7 +53,7 @@ impl Chip {
         // `now` (how a conservative simulation hands segments over), so its status changes
         // do too, and so does every frame it completes (checked below: a frame may have
         // begun in an earlier segment).
-        let quiet = seg.start > now && self.tp_next.is_some();
+        let quiet = seg.start > now && self.tp_next_known;
         // The telegram processor takes every frame the receiver saw (contract with tp), as
         // the receiver decodes it (no list in between: a frame is moved once).
         let at = seg.start;
@@ -451,7 +451,7 @@ impl Chip {
 /// rather than called.
 struct ToProcessor<'a> {
     clock: &'a crate::mclk::MclkClock,
-    tp_next: &'a mut Option<crate::mclk::Due>,
+    tp_next: &'a mut crate::mclk::Due,
     tp: &'a mut crate::telegram_processor::TelegramProcessor,
     out_bound: &'a std::cell::Cell<Option<Option<u64>>>,
     settings: &'a crate::settings::Settings,
@@ -496,12 +496,12 @@ impl FrameSink for ToProcessor<'_> {
         // While a frame is in progress the next starts at its end at the earliest
         // (`telegram_processor::first_frame_tick`), which the next ticks hold already.
         if self.tp.rx_now.is_none() {
-            if let Some(next) = self.tp_next.as_mut() {
-                self.quiet &= at > self.now;
-                // The processor's next tick is the earlier of its own and the first frame's
-                // (and so is the core's, `Chip::kept_next_core`).
-                *next = (*next).min(crate::mclk::Due::at(tick));
-            }
+            self.quiet &= at > self.now;
+            // The processor's next tick is the earlier of its own and the first frame's
+            // (and so is the core's, `Chip::kept_next_core`). Moved whether it holds or not
+            // (`Chip::tp_next_known`, not asked here): when it does not, nothing reads it
+            // before an advance writes it afresh, and `quiet` is false already.
+            *self.tp_next = (*self.tp_next).min(crate::mclk::Due::at(tick));
         }
         self.tp.on_rx_frame(tick, f);
     }
