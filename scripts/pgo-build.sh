@@ -27,11 +27,11 @@ raw="$target/profraw"
 rm -rf "$raw"
 mkdir -p "$raw"
 
-# RUSTFLAGS replaces the workspace's .cargo/config.toml flags: its block alignment is added
-# here (x86-64 only, as there).
+# RUSTFLAGS replaces the workspace's .cargo/config.toml flags: its block alignment and
+# placement are added here (x86-64 only, as there).
 align=""
 if [ "$(uname -m)" = x86_64 ]; then
-  align="-Cllvm-args=-align-all-nofallthru-blocks=5"
+  align="-Cllvm-args=-align-all-nofallthru-blocks=5 -Cllvm-args=-enable-ext-tsp-block-placement=true"
 fi
 
 echo "pgo-build: 1/3 instrumented build" >&2
