@@ -36,8 +36,8 @@ pub struct Chip {
     pub(crate) serial: crate::serial_port::SerialPort,
     /// The telegram processor's next tick, as [`Chip::advance_to`] left it, while
     /// `tp_next_known`; not to be read once anything from outside (a bus access, a pin, a
-    /// DMA cycle) may have changed that.
-    /// A line input keeps it up to date (it can only add frames). The first turn of
+    /// DMA cycle) may have changed that. A line input keeps it up to date (it can only add
+    /// frames). The first turn of
     /// [`Chip::advance_to`]'s loop, and every turn after a step of the timing control that
     /// started no cycle, reuse it instead of walking the processor's state again. With the
     /// timing control's next tick (its memo) it is the core's next tick
