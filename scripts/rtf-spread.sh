@@ -52,19 +52,28 @@ runs=$(mktemp)
 trap 'rm -f "$runs"' EXIT
 end=$((SECONDS + seconds))
 n=0
-while [ $SECONDS -lt $end ]; do
+# Ctrl-C or a failed run ends the runs early; what was measured is still summed up.
+stop=0
+trap 'stop=1' INT
+while [ $SECONDS -lt $end ] && [ $stop = 0 ]; do
   for _ in 1 2 3 4 5; do
     # Read with sed, not python: a reader starting while the run goes on (a pipe) slows it.
-    out=$("$bin" bench --json --scenario "$scenario" --sim-ms "$sim_ms" --warm-up-ms 5)
+    out=$("$bin" bench --json --scenario "$scenario" --sim-ms "$sim_ms" --warm-up-ms 5) || out=""
     r=$(sed -n 's/.*"rtf":\([0-9.]*\).*/\1/p' <<<"$out")
-    [ -n "$r" ] || { echo "rtf-spread: no rtf in: $out" >&2; exit 1; }
+    if [ $stop = 1 ] || [ -z "$r" ]; then
+      [ $stop = 1 ] || echo "rtf-spread: a run gave no rtf (${out:-no output}); stopping" >&2
+      stop=1
+      break
+    fi
     echo "$(date +%s) $r" >>"$runs"
     n=$((n + 1))
   done
   printf '\rrtf-spread: %d runs, %d s to go ' "$n" $((end - SECONDS > 0 ? end - SECONDS : 0)) >&2
-  sleep 0.2
+  [ $stop = 1 ] || sleep 0.2
 done
+trap - INT
 echo >&2
+[ "$n" -gt 0 ] || { echo "rtf-spread: no run finished" >&2; exit 1; }
 if [ -n "$keep" ]; then
   cp "$runs" "$keep"
 fi
