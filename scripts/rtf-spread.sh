@@ -5,7 +5,8 @@
 #
 # One run's figure on a shared virtual machine is not the build's speed: this VM runs a build
 # at one steady speed most of the time and, in bursts of 0.1-1 s that nothing on the VM causes,
-# at a half or a quarter of it (session 35: ≈ 18 % of 1 185 ring-8 runs). A few long runs land
+# at a half to three quarters of it, now and then a quarter (session 35: 17-21 % of the ring-8
+# runs). A few long runs land
 # in a burst or not by chance; many short ones show both modes and how often each comes.
 #
 # Usage: scripts/rtf-spread.sh [-s SCENARIO] [-m SIM_MS] [-d SECONDS] [-t TARGET] [-o FILE] [BINARY]
@@ -20,9 +21,12 @@
 # 0.2 s, so that the runs sample the minutes rather than one stretch.
 set -euo pipefail
 scenario=ring-8 sim_ms=500 seconds=300 target=100 keep=""
+# The usage lines of the header; `usage 0` (for -h) on standard output, otherwise an error.
 usage() {
-  sed -n '/^# Usage:/,/^# Each run/p' "$0" | sed 's/^# \{0,1\}//' | sed '$d' >&2
-  exit 2
+  local text
+  text=$(sed -n '/^# Usage:/,/^# Each run/p' "$0" | sed 's/^# \{0,1\}//' | sed '$d')
+  if [ "$1" = 0 ]; then echo "$text"; else echo "$text" >&2; fi
+  exit "$1"
 }
 while getopts "s:m:d:t:o:h" o; do
   case $o in
@@ -31,14 +35,18 @@ while getopts "s:m:d:t:o:h" o; do
     d) seconds=$OPTARG ;;
     t) target=$OPTARG ;;
     o) keep=$OPTARG ;;
-    *) usage ;;
+    h) usage 0 ;;
+    *) usage 2 ;;
   esac
 done
 shift $((OPTIND - 1))
-[ $# -le 1 ] || usage
+[ $# -le 1 ] || usage 2
+# Whole numbers of at most nine digits (no overflow in shell arithmetic), read as decimal.
 for v in "$sim_ms" "$seconds" "$target"; do
-  [[ $v =~ ^[0-9]+$ ]] && [ "$v" -gt 0 ] || { echo "rtf-spread: not a positive whole number: $v" >&2; exit 2; }
+  [[ $v =~ ^[0-9]{1,9}$ ]] && [ $((10#$v)) -gt 0 ] ||
+    { echo "rtf-spread: not a positive whole number below 10^9: $v" >&2; exit 2; }
 done
+sim_ms=$((10#$sim_ms)) seconds=$((10#$seconds)) target=$((10#$target))
 bin=${1:-${CARGO_TARGET_DIR:-target}/release/sercon}
 [ -x "$bin" ] || { echo "rtf-spread: no sercon binary at $bin (cargo build --release -p sercon-cli)" >&2; exit 2; }
 if [ -n "$keep" ] && ! : >"$keep"; then
